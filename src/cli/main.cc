@@ -1,0 +1,33 @@
+// rabbit: the command-line entry point. Thin: parses arguments, calls the library, maps errors to
+// exit codes (2 for bad input or usage).
+#include <exception>
+#include <iostream>
+#include <vector>
+
+#include "cli/commands.h"
+#include "rabbit/io/error.h"
+
+int main(int argc, char** argv) {
+  CLI::App app{"rabbit-gait: offline design of biped gaits for the RABBIT robot", "rabbit"};
+  app.set_version_flag("--version", std::string("rabbit ") + RABBIT_VERSION);
+  app.require_subcommand(1);
+  const std::vector<rabbit::cli::Command> commands = {rabbit::cli::RegisterSimulate(&app)};
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    const int code = app.exit(e);
+    return code == 0 ? 0 : 2;
+  }
+  try {
+    for (const rabbit::cli::Command& command : commands) {
+      if (command.app->parsed()) return command.run();
+    }
+  } catch (const rabbit::InputError& e) {
+    std::cerr << "rabbit: error: " << e.what() << "\n";
+    return 2;
+  } catch (const std::exception& e) {
+    std::cerr << "rabbit: error: " << e.what() << "\n";
+    return 2;
+  }
+  return 2;
+}

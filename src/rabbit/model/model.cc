@@ -1,0 +1,205 @@
+#include "rabbit/model/model.h"
+
+#include <cmath>
+#include <stdexcept>
+
+namespace rabbit {
+namespace {
+
+// Absolute link indices: 0 trunk, 1 thigh 1, 2 shin 1, 3 thigh 2, 4 shin 2.
+constexpr int kTrunk = 0;
+inline int ThighIndex(int leg) { return 1 + 2 * leg; }
+inline int ShinIndex(int leg) { return 2 + 2 * leg; }
+
+// Absolute CCW link angles a = (B q)[2..6].
+inline std::array<double, 5> LinkAngles(const Vec7& q) {
+  return {-q[kQ0], q[kQ11] - q[kQ0], q[kQ11] + q[kQ12] - q[kQ0], q[kQ21] - q[kQ0],
+          q[kQ21] + q[kQ22] - q[kQ0]};
+}
+// e(a) = (sin a, -cos a): unit vector of a link hanging at CCW angle a from the downward vertical.
+inline Vec2 Down(double a) { return Vec2(std::sin(a), -std::cos(a)); }
+// de/da = (cos a, sin a).
+inline Vec2 Perp(double a) { return Vec2(std::cos(a), std::sin(a)); }
+
+}  // namespace
+
+Model::Model(const ModelParams& params) : params_(params) {
+  std::string error;
+  if (!params.IsValid(&error)) throw std::invalid_argument("invalid model parameter: " + error);
+  const ModelParams& p = params_;
+  total_mass_ = p.trunk_mass + 2.0 * (p.thigh_mass + p.shin_mass);
+  joint_armature_ = p.gear_ratio * p.gear_ratio * p.rotor_inertia;
+
+  // Signed arm of each body's CoM along each link: trunk CoM = hip - trunk_com * e(a0);
+  // thigh CoM = hip + thigh_com * e(a_th); shin CoM = hip + thigh_length e(a_th) + shin_com e(a_sh).
+  moments_.setZero();
+  first_moments_.setZero();
+  moments_(kTrunk, kTrunk) = p.trunk_mass * p.trunk_com * p.trunk_com;
+  first_moments_(kTrunk) = -p.trunk_mass * p.trunk_com;
+  link_inertias_(kTrunk) = p.trunk_inertia;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const int th = ThighIndex(leg), sh = ShinIndex(leg);
+    moments_(th, th) = p.thigh_mass * p.thigh_com * p.thigh_com +
+                       p.shin_mass * p.thigh_length * p.thigh_length;
+    moments_(th, sh) = moments_(sh, th) = p.shin_mass * p.thigh_length * p.shin_com;
+    moments_(sh, sh) = p.shin_mass * p.shin_com * p.shin_com;
+    first_moments_(th) = p.thigh_mass * p.thigh_com + p.shin_mass * p.thigh_length;
+    first_moments_(sh) = p.shin_mass * p.shin_com;
+    link_inertias_(th) = p.thigh_inertia;
+    link_inertias_(sh) = p.shin_inertia;
+  }
+
+  b_.setZero();
+  b_(0, kX) = 1.0;
+  b_(1, kY) = 1.0;
+  for (int k = 2; k < 7; ++k) b_(k, kQ0) = -1.0;
+  b_(3, kQ11) = b_(4, kQ11) = b_(4, kQ12) = 1.0;
+  b_(5, kQ21) = b_(6, kQ21) = b_(6, kQ22) = 1.0;
+}
+
+void ComputeLinkAngles(const Model& model, const Vec7& q, const Vec7& qd, Data* data) {
+  const std::array<double, 5> a = LinkAngles(q);
+  const Vec7 pd = model.B() * qd;
+  for (int k = 0; k < 5; ++k) {
+    data->sin_a[k] = std::sin(a[k]);
+    data->cos_a[k] = std::cos(a[k]);
+    data->ad[k] = pd[2 + k];
+  }
+}
+
+void ComputeDynamics(const Model& model, const Vec7& q, const Vec7& qd, Data* data) {
+  ComputeLinkAngles(model, q, qd, data);
+  const auto& s = data->sin_a;
+  const auto& c = data->cos_a;
+  const auto& P = model.moments();
+  const auto& m1 = model.first_moments();
+  const double g = model.params().gravity;
+
+  // Mass matrix and nonlinear effects in absolute coordinates p.
+  Mat7 Mp;
+  Vec7 hp;
+  Mp.setZero();
+  Mp(0, 0) = Mp(1, 1) = model.total_mass();
+  hp[0] = 0.0;
+  hp[1] = model.total_mass() * g;
+  for (int i = 0; i < 5; ++i) {
+    const double ad2 = data->ad[i] * data->ad[i];
+    // Translational rows: M_p[xy, a_i] = c_i e'(a_i); bias -c_i ad_i^2 e(a_i).
+    Mp(0, 2 + i) = Mp(2 + i, 0) = m1[i] * c[i];
+    Mp(1, 2 + i) = Mp(2 + i, 1) = m1[i] * s[i];
+    hp[0] -= m1[i] * ad2 * s[i];
+    hp[1] += m1[i] * ad2 * c[i];
+    double hi = g * m1[i] * s[i];
+    for (int j = 0; j < 5; ++j) {
+      if (P(i, j) == 0.0) continue;
+      // cos(a_i - a_j) and sin(a_j - a_i) from the cached sines and cosines.
+      Mp(2 + i, 2 + j) = P(i, j) * (c[i] * c[j] + s[i] * s[j]);
+      hi -= P(i, j) * data->ad[j] * data->ad[j] * (s[j] * c[i] - c[j] * s[i]);
+    }
+    Mp(2 + i, 2 + i) += model.link_inertias()[i];
+    hp[2 + i] = hi;
+  }
+  const Mat7& B = model.B();
+  data->M.noalias() = B.transpose() * Mp * B;
+  for (int j = kQ11; j <= kQ22; ++j) data->M(j, j) += model.joint_armature();
+  data->h.noalias() = B.transpose() * hp;
+}
+
+bool SolveForAcceleration(const Vec7& Q, Data* data) {
+  data->llt.compute(data->M);
+  if (data->llt.info() != Eigen::Success) return false;
+  data->qdd = data->llt.solve(Q - data->h);
+  return true;
+}
+
+bool ForwardDynamics(const Model& model, const Vec7& q, const Vec7& qd, const Vec7& Q,
+                     Data* data) {
+  ComputeDynamics(model, q, qd, data);
+  return SolveForAcceleration(Q, data);
+}
+
+void ComputeFootKinematics(const Model& model, const Vec7& q, const Vec7& qd, Data* data) {
+  const ModelParams& p = model.params();
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const int th = ThighIndex(leg), sh = ShinIndex(leg);
+    const Vec2 e_th(data->sin_a[th], -data->cos_a[th]);
+    const Vec2 e_sh(data->sin_a[sh], -data->cos_a[sh]);
+    const Vec2 d_thigh = p.thigh_length * Vec2(data->cos_a[th], data->sin_a[th]);
+    const Vec2 d_shin = p.shin_length * Vec2(data->cos_a[sh], data->sin_a[sh]);
+    data->foot_pos[leg] = Vec2(q[kX], q[kY]) + p.thigh_length * e_th + p.shin_length * e_sh;
+    Mat27& J = data->foot_jac[leg];
+    J.setZero();
+    J(0, kX) = 1.0;
+    J(1, kY) = 1.0;
+    J.col(kQ0) = -(d_thigh + d_shin);
+    const int hip = leg == 0 ? kQ11 : kQ21;
+    J.col(hip) = d_thigh + d_shin;
+    J.col(hip + 1) = d_shin;
+    data->foot_vel[leg] = J * qd;
+  }
+}
+
+Pose ComputePose(const Model& model, const Vec7& q) {
+  const ModelParams& p = model.params();
+  const std::array<double, 5> a = LinkAngles(q);
+  Pose pose;
+  pose.hip = Vec2(q[kX], q[kY]);
+  pose.trunk_com = pose.hip - p.trunk_com * Down(a[kTrunk]);
+  pose.trunk_top = pose.hip - p.trunk_length * Down(a[kTrunk]);
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const Vec2 e_th = Down(a[ThighIndex(leg)]);
+    const Vec2 e_sh = Down(a[ShinIndex(leg)]);
+    pose.thigh_com[leg] = pose.hip + p.thigh_com * e_th;
+    pose.knee[leg] = pose.hip + p.thigh_length * e_th;
+    pose.shin_com[leg] = pose.knee[leg] + p.shin_com * e_sh;
+    pose.foot[leg] = pose.knee[leg] + p.shin_length * e_sh;
+  }
+  return pose;
+}
+
+Vec2 FootPosition(const Model& model, const Vec7& q, int leg) {
+  const std::array<double, 5> a = LinkAngles(q);
+  const ModelParams& p = model.params();
+  return Vec2(q[kX], q[kY]) + p.thigh_length * Down(a[ThighIndex(leg)]) +
+         p.shin_length * Down(a[ShinIndex(leg)]);
+}
+
+Mat27 FootJacobian(const Model& model, const Vec7& q, int leg) {
+  const std::array<double, 5> a = LinkAngles(q);
+  const ModelParams& p = model.params();
+  const Vec2 d_thigh = p.thigh_length * Perp(a[ThighIndex(leg)]);
+  const Vec2 d_shin = p.shin_length * Perp(a[ShinIndex(leg)]);
+  Mat27 J = Mat27::Zero();
+  J(0, kX) = 1.0;
+  J(1, kY) = 1.0;
+  J.col(kQ0) = -(d_thigh + d_shin);
+  const int hip = leg == 0 ? kQ11 : kQ21;
+  J.col(hip) = d_thigh + d_shin;
+  J.col(hip + 1) = d_shin;
+  return J;
+}
+
+Vec7 JointTorqueToGeneralized(const Vec4& tau) {
+  Vec7 Q = Vec7::Zero();
+  Q.tail<4>() = tau;
+  return Q;
+}
+
+double KineticEnergy(const Model& model, const Vec7& q, const Vec7& qd) {
+  Data data;
+  ComputeDynamics(model, q, qd, &data);
+  return 0.5 * qd.dot(data.M * qd);
+}
+
+Vec2 CenterOfMass(const Model& model, const Vec7& q) {
+  const std::array<double, 5> a = LinkAngles(q);
+  Vec2 moment = model.total_mass() * Vec2(q[kX], q[kY]);
+  for (int k = 0; k < 5; ++k) moment += model.first_moments()[k] * Down(a[k]);
+  return moment / model.total_mass();
+}
+
+double PotentialEnergy(const Model& model, const Vec7& q) {
+  return model.total_mass() * model.params().gravity * CenterOfMass(model, q).y();
+}
+
+}  // namespace rabbit

@@ -1,0 +1,123 @@
+// RABBIT rigid-body model: kinematics, mass matrix, nonlinear effects, energy (DESIGN.md section 1).
+//
+// Generalized coordinates q = [x, y, q0, q11, q12, q21, q22]:
+//   x, y  hip position (world, y up);
+//   q0    trunk pitch from the upward vertical, positive leaning forward;
+//   qi1   hip of leg i, relative trunk->thigh; thigh absolute angle th_i = qi1 - q0 from the
+//         downward vertical, positive with the knee ahead of the hip;
+//   qi2   knee of leg i, relative thigh->shin, 0 straight, negative flexed.
+// Equations of motion:  M(q) qdd + h(q, qd) = S^T tau + sum_feet J_f(q)^T F_f,
+// with tau = [T_hip1, T_knee1, T_hip2, T_knee2] acting on q11, q12, q21, q22.
+//
+// Internally the model works in "absolute" coordinates p = B q = [x, y, a0..a4], where a_k are
+// the counter-clockwise angles of the five links (a0 = -q0 trunk, a1 = q11 - q0 thigh 1,
+// a2 = q11 + q12 - q0 shin 1, a3, a4 leg 2). Every link point is hip + sum_k s_k e(a_k) with
+// e(a) = (sin a, -cos a), so M_p and h_p have a closed form in the constant moments
+//   P(i, j) = sum_b m_b s_{b,i} s_{b,j},   c_i = sum_b m_b s_{b,i},
+// and M = B^T M_p B (+ rotor inertia), h = B^T h_p.
+//
+// Model/data split (as in Pinocchio): a Model is built once from validated parameters and never
+// modified; each simulation owns a Data with all scratch space, so threads share one Model.
+#ifndef RABBIT_MODEL_MODEL_H_
+#define RABBIT_MODEL_MODEL_H_
+
+#include <Eigen/Core>
+#include <Eigen/Cholesky>
+#include <array>
+
+#include "rabbit/model/params.h"
+
+namespace rabbit {
+
+using Vec2 = Eigen::Vector2d;
+using Vec4 = Eigen::Vector4d;
+using Vec7 = Eigen::Matrix<double, 7, 1>;
+using Mat7 = Eigen::Matrix<double, 7, 7>;
+using Mat27 = Eigen::Matrix<double, 2, 7>;
+
+// Indices into q.
+enum Coord : int { kX = 0, kY = 1, kQ0 = 2, kQ11 = 3, kQ12 = 4, kQ21 = 5, kQ22 = 6 };
+constexpr int kNq = 7;
+constexpr int kNumJoints = 4;  // hip1, knee1, hip2, knee2 (q index = 3 + joint)
+constexpr int kNumLegs = 2;
+
+class Model {
+ public:
+  // Throws std::invalid_argument when !params.IsValid().
+  explicit Model(const ModelParams& params);
+
+  const ModelParams& params() const { return params_; }
+  double total_mass() const { return total_mass_; }
+  double leg_length() const { return params_.thigh_length + params_.shin_length; }
+  // Constant moments of the absolute-coordinate formulation (see file comment).
+  const Eigen::Matrix<double, 5, 5>& moments() const { return moments_; }
+  const Eigen::Matrix<double, 5, 1>& first_moments() const { return first_moments_; }
+  const Eigen::Matrix<double, 5, 1>& link_inertias() const { return link_inertias_; }
+  // p = B q.
+  const Mat7& B() const { return b_; }
+  double joint_armature() const { return joint_armature_; }
+
+ private:
+  ModelParams params_;
+  double total_mass_ = 0.0;
+  double joint_armature_ = 0.0;
+  Eigen::Matrix<double, 5, 5> moments_;
+  Eigen::Matrix<double, 5, 1> first_moments_;
+  Eigen::Matrix<double, 5, 1> link_inertias_;
+  Mat7 b_;
+};
+
+// Per-simulation scratch space and results of the algorithms below.
+struct Data {
+  std::array<double, 5> sin_a{}, cos_a{}, ad{};  // link angles' sines, cosines, rates
+  Mat7 M = Mat7::Zero();                          // mass matrix M(q)
+  Vec7 h = Vec7::Zero();                          // nonlinear effects h(q, qd)
+  Eigen::LLT<Mat7> llt;                           // factorisation of M
+  Vec7 qdd = Vec7::Zero();                        // result of ForwardDynamics
+  std::array<Vec2, kNumLegs> foot_pos, foot_vel;  // results of ComputeFootKinematics
+  std::array<Mat27, kNumLegs> foot_jac;
+};
+
+// Planar positions of the robot's points, for contact, checks and drawing.
+struct Pose {
+  Vec2 hip, trunk_com, trunk_top;
+  std::array<Vec2, kNumLegs> knee, foot, thigh_com, shin_com;
+};
+
+// Fills data->sin_a, cos_a and ad (the links' absolute angles' sines, cosines and rates).
+void ComputeLinkAngles(const Model& model, const Vec7& q, const Vec7& qd, Data* data);
+
+// Fills data->sin_a, cos_a, ad, M and h at (q, qd).
+void ComputeDynamics(const Model& model, const Vec7& q, const Vec7& qd, Data* data);
+
+// Fills data->foot_pos, foot_vel and foot_jac from the sines and cosines that ComputeDynamics
+// cached for the same q (call it or ComputeLinkAngles first).
+void ComputeFootKinematics(const Model& model, const Vec7& q, const Vec7& qd, Data* data);
+
+// Solves M qdd = Q - h with the M and h in data (after ComputeDynamics); false if M is not SPD.
+bool SolveForAcceleration(const Vec7& Q, Data* data);
+
+// qdd = M^-1 (Q - h) with Q the total generalized force; calls ComputeDynamics. Returns false
+// when M is not positive definite (never for a valid model and finite q).
+bool ForwardDynamics(const Model& model, const Vec7& q, const Vec7& qd, const Vec7& Q,
+                     Data* data);
+
+// Position of every point of interest at q.
+Pose ComputePose(const Model& model, const Vec7& q);
+
+// Foot i position and velocity (world frame) and its Jacobian d(foot)/dq.
+Vec2 FootPosition(const Model& model, const Vec7& q, int leg);
+Mat27 FootJacobian(const Model& model, const Vec7& q, int leg);
+
+// Generalized force of the motor torques tau = [T_hip1, T_knee1, T_hip2, T_knee2].
+Vec7 JointTorqueToGeneralized(const Vec4& tau);
+
+// Kinetic energy 0.5 qd^T M qd and gravitational potential energy sum m_b g y_b.
+double KineticEnergy(const Model& model, const Vec7& q, const Vec7& qd);
+double PotentialEnergy(const Model& model, const Vec7& q);
+// Position of the whole robot's centre of mass.
+Vec2 CenterOfMass(const Model& model, const Vec7& q);
+
+}  // namespace rabbit
+
+#endif  // RABBIT_MODEL_MODEL_H_

@@ -1,0 +1,239 @@
+#include "rabbit/scenario/scenario.h"
+
+#include <cmath>
+#include <filesystem>
+
+#include "rabbit/io/error.h"
+#include "rabbit/io/toml_reader.h"
+
+namespace rabbit {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+void ReadModelFields(TomlReader* t, ModelParams* p) {
+  p->trunk_mass = t->Double("trunk_mass", p->trunk_mass);
+  p->trunk_com = t->Double("trunk_com", p->trunk_com);
+  p->trunk_inertia = t->Double("trunk_inertia", p->trunk_inertia);
+  p->trunk_length = t->Double("trunk_length", p->trunk_length);
+  p->thigh_mass = t->Double("thigh_mass", p->thigh_mass);
+  p->thigh_length = t->Double("thigh_length", p->thigh_length);
+  p->thigh_com = t->Double("thigh_com", p->thigh_com);
+  p->thigh_inertia = t->Double("thigh_inertia", p->thigh_inertia);
+  p->shin_mass = t->Double("shin_mass", p->shin_mass);
+  p->shin_length = t->Double("shin_length", p->shin_length);
+  p->shin_com = t->Double("shin_com", p->shin_com);
+  p->shin_inertia = t->Double("shin_inertia", p->shin_inertia);
+  p->rotor_inertia = t->Double("rotor_inertia", p->rotor_inertia);
+  p->gear_ratio = t->Double("gear_ratio", p->gear_ratio);
+  p->gravity = t->Double("gravity", p->gravity);
+}
+
+template <typename Params>
+void Validate(const TomlReader& t, const Params& params) {
+  std::string error;
+  if (!params.IsValid(&error)) t.Fail("", error);
+}
+
+ContactParams ReadContact(TomlReader t) {
+  ContactParams p;
+  p.k_n = t.Double("k_n", p.k_n);
+  p.lambda_n = t.Double("lambda_n", p.lambda_n);
+  p.k_t = t.Double("k_t", p.k_t);
+  p.lambda_t = t.Double("lambda_t", p.lambda_t);
+  p.mu_s = t.Double("mu_s", p.mu_s);
+  p.lambda_g = t.Double("lambda_g", p.lambda_g);
+  p.mu_g = t.Double("mu_g", p.mu_g);
+  t.Finish();
+  Validate(t, p);
+  return p;
+}
+
+ActuatorParams ReadActuator(TomlReader t) {
+  ActuatorParams p;
+  p.enabled = t.Bool("enabled", p.enabled);
+  p.max_torque = t.Double("max_torque", p.max_torque);
+  p.max_power = t.Double("max_power", p.max_power);
+  p.full_torque_speed = t.Double("full_torque_speed", p.full_torque_speed);
+  p.max_speed = t.Double("max_speed", p.max_speed);
+  t.Finish();
+  Validate(t, p);
+  return p;
+}
+
+Terrain ReadTerrain(TomlReader t) {
+  Terrain terrain;
+  for (TomlReader& o : t.TableArray("obstacles")) {
+    Obstacle obstacle;
+    obstacle.x_start = o.RequiredDouble("x_start");
+    obstacle.length = o.RequiredDouble("length");
+    obstacle.height = o.RequiredDouble("height");
+    o.Finish();
+    if (obstacle.length <= 0.0) o.Fail("length", "must be > 0");
+    if (obstacle.height <= 0.0) o.Fail("height", "must be > 0");
+    terrain.obstacles.push_back(obstacle);
+  }
+  t.Finish();
+  Validate(t, terrain);
+  return terrain;
+}
+
+void ReadSimulation(TomlReader t, Scenario* s) {
+  SimOptions& o = s->options;
+  o.duration = t.RequiredDouble("duration");
+  if (o.duration < 0.0) t.Fail("duration", "must be >= 0");
+  const double rate = t.Double("control_rate_hz", 1.0 / o.control_period);
+  if (rate <= 0.0) t.Fail("control_rate_hz", "must be > 0");
+  o.control_period = 1.0 / rate;
+  const std::string integrator = t.String("integrator", IntegratorName(o.integrator.kind));
+  if (!ParseIntegratorName(integrator, &o.integrator.kind)) {
+    t.Fail("integrator", "expected \"cvode\" or \"arkode\", got \"" + integrator + "\"");
+  }
+  o.integrator.rtol = t.Double("rtol", o.integrator.rtol);
+  o.integrator.atol = t.Double("atol", o.integrator.atol);
+  o.integrator.max_step = t.Double("max_step", o.integrator.max_step);
+  o.contact = t.Bool("contact", o.contact);
+  o.reinit_at_samples = t.Bool("reinit_at_samples", o.reinit_at_samples);
+  o.record_every = static_cast<int>(t.Integer("record_every", o.record_every));
+  if (!t.Bool("gravity", true)) s->model.gravity = 0.0;
+  t.Finish();
+  Validate(t, o);
+}
+
+void ReadFall(TomlReader t, FallCriteria* f) {
+  f->enabled = t.Bool("enabled", f->enabled);
+  f->min_hip_height = t.Double("min_hip_height", f->min_hip_height);
+  f->max_trunk_pitch = t.Double("max_trunk_pitch_deg", f->max_trunk_pitch / kDeg) * kDeg;
+  if (f->max_trunk_pitch <= 0.0) t.Fail("max_trunk_pitch_deg", "must be > 0");
+  t.Finish();
+}
+
+void ReadInitial(TomlReader t, const Model& model, Scenario* s) {
+  Vec7& q = s->q0;
+  Vec7& qd = s->qd0;
+  q[kX] = t.Double("x", 0.0);
+  q[kQ0] = t.Double("q0_deg", 0.0) * kDeg;
+  q[kQ11] = t.Double("q11_deg", 0.0) * kDeg;
+  q[kQ12] = t.Double("q12_deg", 0.0) * kDeg;
+  q[kQ21] = t.Double("q21_deg", 0.0) * kDeg;
+  q[kQ22] = t.Double("q22_deg", 0.0) * kDeg;
+  qd[kX] = t.Double("xd", 0.0);
+  qd[kY] = t.Double("yd", 0.0);
+  qd[kQ0] = t.Double("q0d_deg_s", 0.0) * kDeg;
+  qd[kQ11] = t.Double("q11d_deg_s", 0.0) * kDeg;
+  qd[kQ12] = t.Double("q12d_deg_s", 0.0) * kDeg;
+  qd[kQ21] = t.Double("q21d_deg_s", 0.0) * kDeg;
+  qd[kQ22] = t.Double("q22d_deg_s", 0.0) * kDeg;
+  const bool has_y = t.Has("y"), has_clearance = t.Has("foot_clearance");
+  if (has_y == has_clearance) {
+    t.Fail("", "give exactly one of 'y' (hip height, m) or 'foot_clearance' (lowest foot "
+               "above the ground, m)");
+  }
+  if (has_y) {
+    q[kY] = t.Double("y", 0.0);
+  } else {
+    // Hip height that puts the lowest foot at the requested clearance above its surface.
+    const double clearance = t.Double("foot_clearance", 0.0);
+    double y = -1e9;
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      Vec7 at_zero = q;
+      at_zero[kY] = 0.0;
+      const Vec2 foot = FootPosition(model, at_zero, leg);
+      y = std::max(y, s->terrain.HeightAt(foot.x()) + clearance - foot.y());
+    }
+    q[kY] = y;
+  }
+  t.Finish();
+}
+
+void ReadController(TomlReader t, Scenario* s) {
+  const std::string type = t.String("type", "passive");
+  if (type == "passive") {
+    s->controller = ControllerKind::kPassive;
+  } else if (type == "pd_hold") {
+    s->controller = ControllerKind::kPdHold;
+    PdHoldParams& p = s->pd_hold;
+    // Gains: one number for all four joints, or four [hip1, knee1, hip2, knee2].
+    for (const char* key : {"kp", "kd"}) {
+      Vec4* out = std::string(key) == "kp" ? &p.kp : &p.kd;
+      if (t.IsArray(key)) {
+        const std::vector<double> v = t.Doubles(key, {}, 4);
+        *out = Vec4(v[0], v[1], v[2], v[3]);
+      } else {
+        *out = Vec4::Constant(t.Double(key, (*out)[0]));
+      }
+    }
+    const std::vector<double> target =
+        t.Doubles("target_deg", {s->q0[kQ11] / kDeg, s->q0[kQ12] / kDeg, s->q0[kQ21] / kDeg,
+                                 s->q0[kQ22] / kDeg},
+                  4);
+    p.target = Vec4(target[0], target[1], target[2], target[3]) * kDeg;
+    Validate(t, p);
+  } else {
+    t.Fail("type", "unknown controller \"" + type + "\" (expected \"passive\" or \"pd_hold\")");
+  }
+  t.Finish();
+}
+
+}  // namespace
+
+ModelParams ReadModelParams(TomlReader* t) {
+  ModelParams p;
+  const std::string base = t->String("file", "");
+  if (!base.empty()) {
+    const std::filesystem::path path = std::filesystem::path(t->Directory()) / base;
+    p = LoadModelFile(path.string());
+  }
+  ReadModelFields(t, &p);
+  t->Finish();
+  Validate(*t, p);
+  return p;
+}
+
+ModelParams LoadModelFile(const std::string& path) {
+  TomlReader root = TomlReader::ParseFile(path);
+  TomlReader model = root.Table("model");
+  ModelParams p;
+  ReadModelFields(&model, &p);
+  model.Finish();
+  root.Finish();
+  Validate(model, p);
+  return p;
+}
+
+Scenario LoadScenario(const std::string& path) {
+  TomlReader root = TomlReader::ParseFile(path);
+  Scenario s;
+  s.file = path;
+  s.name = root.String("name", std::filesystem::path(path).stem().string());
+  s.description = root.String("description", "");
+  s.expected_outcome = root.String("expect_outcome", "");
+  if (!s.expected_outcome.empty() && s.expected_outcome != "completed" &&
+      s.expected_outcome != "fell" && s.expected_outcome != "tripped" &&
+      s.expected_outcome != "diverged") {
+    root.Fail("expect_outcome", "expected \"completed\", \"fell\", \"tripped\" or \"diverged\"");
+  }
+  TomlReader model_table = root.Table("model");
+  s.model = ReadModelParams(&model_table);
+  ReadSimulation(root.Table("simulation"), &s);  // may switch gravity off in s.model
+  s.contact = ReadContact(root.Table("contact"));
+  s.actuator = ReadActuator(root.Table("actuator"));
+  s.terrain = ReadTerrain(root.Table("terrain"));
+  ReadFall(root.Table("fall"), &s.options.fall);
+  ReadInitial(root.Table("initial"), Model(s.model), &s);
+  ReadController(root.Table("controller"), &s);
+  root.Finish();
+  return s;
+}
+
+std::unique_ptr<Controller> MakeController(const Scenario& scenario) {
+  switch (scenario.controller) {
+    case ControllerKind::kPdHold:
+      return std::make_unique<PdHoldController>(scenario.pd_hold);
+    case ControllerKind::kPassive:
+      break;
+  }
+  return std::make_unique<PassiveController>();
+}
+
+}  // namespace rabbit

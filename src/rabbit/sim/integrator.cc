@@ -1,0 +1,232 @@
+#include "rabbit/sim/integrator.h"
+
+#include <arkode/arkode_erkstep.h>
+#include <cvode/cvode.h>
+#include <nvector/nvector_serial.h>
+#include <sundials/sundials_context.h>
+#include <sunlinsol/sunlinsol_dense.h>
+#include <sunmatrix/sunmatrix_dense.h>
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+namespace rabbit {
+
+const char* IntegratorName(IntegratorKind kind) {
+  return kind == IntegratorKind::kCvodeBdf ? "cvode" : "arkode";
+}
+
+bool ParseIntegratorName(const std::string& name, IntegratorKind* kind) {
+  if (name == "cvode") {
+    *kind = IntegratorKind::kCvodeBdf;
+  } else if (name == "arkode") {
+    *kind = IntegratorKind::kArkodeErk;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+bool IntegratorOptions::IsValid(std::string* error) const {
+  if (!(std::isfinite(rtol) && rtol > 0.0 && rtol < 1.0)) {
+    *error = "rtol must be in (0, 1)";
+    return false;
+  }
+  if (!(std::isfinite(atol) && atol > 0.0)) {
+    *error = "atol must be > 0";
+    return false;
+  }
+  if (!(std::isfinite(max_step) && max_step >= 0.0)) {
+    *error = "max_step must be >= 0";
+    return false;
+  }
+  if (max_steps_per_call <= 0) {
+    *error = "max_steps_per_call must be > 0";
+    return false;
+  }
+  return true;
+}
+
+namespace {
+
+// Owns the SUNDIALS context and vector shared by both integrators, and adapts the callbacks.
+class SundialsBase : public OdeIntegrator {
+ public:
+  SundialsBase(int n, int num_roots, OdeRhsFn rhs, OdeRootFn roots, void* user)
+      : n_(n), num_roots_(num_roots), rhs_(rhs), roots_(roots), user_(user) {
+    if (SUNContext_Create(nullptr, &ctx_) != 0) throw std::runtime_error("SUNContext_Create");
+    y_ = N_VNew_Serial(n, ctx_);
+  }
+  ~SundialsBase() override {
+    if (y_ != nullptr) N_VDestroy(y_);
+    if (ctx_ != nullptr) SUNContext_Free(&ctx_);
+  }
+  SundialsBase(const SundialsBase&) = delete;
+  SundialsBase& operator=(const SundialsBase&) = delete;
+
+ protected:
+  static int Rhs(realtype t, N_Vector y, N_Vector ydot, void* self) {
+    auto* s = static_cast<SundialsBase*>(self);
+    return s->rhs_(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), s->user_);
+  }
+  static int Roots(realtype t, N_Vector y, realtype* g, void* self) {
+    auto* s = static_cast<SundialsBase*>(self);
+    return s->roots_(t, N_VGetArrayPointer(y), g, s->user_);
+  }
+  static void ErrorHandler(int code, const char* module, const char* function, char* msg,
+                           void* self) {
+    auto* s = static_cast<SundialsBase*>(self);
+    if (code < 0) {
+      s->error_ = std::string(module) + "::" + function + " (code " + std::to_string(code) +
+                  "): " + msg;
+    }
+  }
+  void LoadY(const double* y) { std::memcpy(N_VGetArrayPointer(y_), y, sizeof(double) * n_); }
+  void StoreY(double* y) const { std::memcpy(y, N_VGetArrayPointer(y_), sizeof(double) * n_); }
+  void Check(int flag, const char* what) {
+    if (flag < 0) throw std::runtime_error(std::string("SUNDIALS setup failed: ") + what);
+  }
+
+  int n_, num_roots_;
+  OdeRhsFn rhs_;
+  OdeRootFn roots_;
+  void* user_;
+  SUNContext ctx_ = nullptr;
+  N_Vector y_ = nullptr;
+  long reinits_ = 0;
+};
+
+class CvodeIntegrator final : public SundialsBase {
+ public:
+  CvodeIntegrator(const IntegratorOptions& o, int n, int num_roots, OdeRhsFn rhs, OdeRootFn roots,
+                  void* user, double t0, const double* y0)
+      : SundialsBase(n, num_roots, rhs, roots, user) {
+    LoadY(y0);
+    mem_ = CVodeCreate(CV_BDF, ctx_);
+    if (mem_ == nullptr) throw std::runtime_error("CVodeCreate failed");
+    Check(CVodeSetErrHandlerFn(mem_, ErrorHandler, this), "CVodeSetErrHandlerFn");
+    Check(CVodeInit(mem_, Rhs, t0, y_), "CVodeInit");
+    Check(CVodeSetUserData(mem_, this), "CVodeSetUserData");
+    Check(CVodeSStolerances(mem_, o.rtol, o.atol), "CVodeSStolerances");
+    A_ = SUNDenseMatrix(n, n, ctx_);
+    ls_ = SUNLinSol_Dense(y_, A_, ctx_);
+    Check(CVodeSetLinearSolver(mem_, ls_, A_), "CVodeSetLinearSolver");
+    Check(CVodeSetMaxNumSteps(mem_, o.max_steps_per_call), "CVodeSetMaxNumSteps");
+    if (o.max_step > 0.0) Check(CVodeSetMaxStep(mem_, o.max_step), "CVodeSetMaxStep");
+    if (num_roots > 0) {
+      Check(CVodeRootInit(mem_, num_roots, Roots), "CVodeRootInit");
+      std::vector<int> dir(num_roots, -1);
+      Check(CVodeSetRootDirection(mem_, dir.data()), "CVodeSetRootDirection");
+      Check(CVodeSetNoInactiveRootWarn(mem_), "CVodeSetNoInactiveRootWarn");
+    }
+  }
+  ~CvodeIntegrator() override {
+    CVodeFree(&mem_);
+    SUNLinSolFree(ls_);
+    SUNMatDestroy(A_);
+  }
+
+  Status Advance(double t_stop, double* t, double* y) override {
+    CVodeSetStopTime(mem_, t_stop);
+    const int flag = CVode(mem_, t_stop, y_, t, CV_NORMAL);
+    StoreY(y);
+    if (flag == CV_ROOT_RETURN) return Status::kRoot;
+    if (flag >= 0) return Status::kReachedStop;
+    if (error_.empty()) error_ = "CVODE failed with flag " + std::to_string(flag);
+    return Status::kFailure;
+  }
+  void RootsFound(std::vector<int>* fired) override {
+    fired->assign(num_roots_, 0);
+    CVodeGetRootInfo(mem_, fired->data());
+  }
+  void Reinit(double t, const double* y) override {
+    LoadY(y);
+    CVodeReInit(mem_, t, y_);
+    ++reinits_;
+  }
+  IntegratorStats Stats() const override {
+    IntegratorStats s;
+    CVodeGetNumSteps(mem_, &s.steps);
+    long nfe = 0, nfe_ls = 0;
+    CVodeGetNumRhsEvals(mem_, &nfe);
+    CVodeGetNumLinRhsEvals(mem_, &nfe_ls);
+    s.rhs_evals = nfe + nfe_ls;
+    CVodeGetNumGEvals(mem_, &s.root_evals);
+    s.reinits = reinits_;
+    return s;
+  }
+
+ private:
+  void* mem_ = nullptr;
+  SUNMatrix A_ = nullptr;
+  SUNLinearSolver ls_ = nullptr;
+};
+
+class ArkodeErkIntegrator final : public SundialsBase {
+ public:
+  ArkodeErkIntegrator(const IntegratorOptions& o, int n, int num_roots, OdeRhsFn rhs,
+                      OdeRootFn roots, void* user, double t0, const double* y0)
+      : SundialsBase(n, num_roots, rhs, roots, user) {
+    LoadY(y0);
+    mem_ = ERKStepCreate(Rhs, t0, y_, ctx_);
+    if (mem_ == nullptr) throw std::runtime_error("ERKStepCreate failed");
+    Check(ERKStepSetErrHandlerFn(mem_, ErrorHandler, this), "ERKStepSetErrHandlerFn");
+    Check(ERKStepSetUserData(mem_, this), "ERKStepSetUserData");
+    Check(ERKStepSStolerances(mem_, o.rtol, o.atol), "ERKStepSStolerances");
+    Check(ERKStepSetTableNum(mem_, ARKODE_DORMAND_PRINCE_7_4_5), "ERKStepSetTableNum");
+    Check(ERKStepSetMaxNumSteps(mem_, o.max_steps_per_call), "ERKStepSetMaxNumSteps");
+    if (o.max_step > 0.0) Check(ERKStepSetMaxStep(mem_, o.max_step), "ERKStepSetMaxStep");
+    if (num_roots > 0) {
+      Check(ERKStepRootInit(mem_, num_roots, Roots), "ERKStepRootInit");
+      std::vector<int> dir(num_roots, -1);
+      Check(ERKStepSetRootDirection(mem_, dir.data()), "ERKStepSetRootDirection");
+      Check(ERKStepSetNoInactiveRootWarn(mem_), "ERKStepSetNoInactiveRootWarn");
+    }
+  }
+  ~ArkodeErkIntegrator() override { ERKStepFree(&mem_); }
+
+  Status Advance(double t_stop, double* t, double* y) override {
+    ERKStepSetStopTime(mem_, t_stop);
+    const int flag = ERKStepEvolve(mem_, t_stop, y_, t, ARK_NORMAL);
+    StoreY(y);
+    if (flag == ARK_ROOT_RETURN) return Status::kRoot;
+    if (flag >= 0) return Status::kReachedStop;
+    if (error_.empty()) error_ = "ARKODE failed with flag " + std::to_string(flag);
+    return Status::kFailure;
+  }
+  void RootsFound(std::vector<int>* fired) override {
+    fired->assign(num_roots_, 0);
+    ERKStepGetRootInfo(mem_, fired->data());
+  }
+  void Reinit(double t, const double* y) override {
+    LoadY(y);
+    ERKStepReInit(mem_, Rhs, t, y_);
+    ++reinits_;
+  }
+  IntegratorStats Stats() const override {
+    IntegratorStats s;
+    ERKStepGetNumSteps(mem_, &s.steps);
+    ERKStepGetNumRhsEvals(mem_, &s.rhs_evals);
+    ERKStepGetNumGEvals(mem_, &s.root_evals);
+    s.reinits = reinits_;
+    return s;
+  }
+
+ private:
+  void* mem_ = nullptr;
+};
+
+}  // namespace
+
+std::unique_ptr<OdeIntegrator> OdeIntegrator::Create(const IntegratorOptions& options, int n,
+                                                     int num_roots, OdeRhsFn rhs,
+                                                     OdeRootFn roots, void* user, double t0,
+                                                     const double* y0) {
+  if (options.kind == IntegratorKind::kCvodeBdf) {
+    return std::make_unique<CvodeIntegrator>(options, n, num_roots, rhs, roots, user, t0, y0);
+  }
+  return std::make_unique<ArkodeErkIntegrator>(options, n, num_roots, rhs, roots, user, t0, y0);
+}
+
+}  // namespace rabbit

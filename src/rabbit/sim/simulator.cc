@@ -1,0 +1,276 @@
+#include "rabbit/sim/simulator.h"
+
+#include <cmath>
+#include <memory>
+#include <sstream>
+#include <stdexcept>
+
+namespace rabbit {
+
+const char* OutcomeName(Outcome outcome) {
+  switch (outcome) {
+    case Outcome::kCompleted:
+      return "completed";
+    case Outcome::kFell:
+      return "fell";
+    case Outcome::kTripped:
+      return "tripped";
+    case Outcome::kDiverged:
+      return "diverged";
+  }
+  return "?";
+}
+
+bool SimOptions::IsValid(std::string* error) const {
+  if (!(std::isfinite(duration) && duration >= 0.0)) {
+    *error = "duration must be finite and >= 0";
+    return false;
+  }
+  if (!(std::isfinite(control_period) && control_period > 0.0 && control_period <= 1.0)) {
+    *error = "control period must be in (0, 1] s";
+    return false;
+  }
+  if (max_events_per_period <= 0 || record_every < 0) {
+    *error = "max_events_per_period must be > 0 and record_every >= 0";
+    return false;
+  }
+  if (!(std::isfinite(fall.min_hip_height) && std::isfinite(fall.max_trunk_pitch) &&
+        fall.max_trunk_pitch > 0.0)) {
+    *error = "fall criteria must be finite, with max trunk pitch > 0";
+    return false;
+  }
+  return integrator.IsValid(error);
+}
+
+namespace {
+
+constexpr int kStateSize = 2 * kNq;
+// Foot penetration into an obstacle's top that does not count as a link entering it (m).
+constexpr double kObstacleTopMargin = 0.01;
+
+struct RunContext {
+  const SimSetup* setup = nullptr;
+  Data data;
+  std::array<FootContactState, kNumLegs> feet{};
+  Vec4 tau = Vec4::Zero();
+  int num_obstacles = 0;
+};
+
+int Rhs(double /*t*/, const double* y, double* ydot, void* user) {
+  auto* c = static_cast<RunContext*>(user);
+  const Model& model = *c->setup->model;
+  const Vec7 q = Eigen::Map<const Vec7>(y);
+  const Vec7 qd = Eigen::Map<const Vec7>(y + kNq);
+  ComputeDynamics(model, q, qd, &c->data);
+  Vec7 Q = JointTorqueToGeneralized(c->tau);
+  if (c->setup->options.contact) {
+    ComputeFootKinematics(model, q, qd, &c->data);
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      if (c->feet[leg].mode == ContactMode::kAir) continue;
+      const FootForce f = ComputeFootForce(c->setup->contact, c->setup->terrain, c->feet[leg],
+                                           c->data.foot_pos[leg], c->data.foot_vel[leg]);
+      Q.noalias() += c->data.foot_jac[leg].transpose() * Vec2(f.ft, f.fn);
+    }
+  }
+  if (!SolveForAcceleration(Q, &c->data)) return 1;
+  Eigen::Map<Vec7> ydot_q(ydot), ydot_qd(ydot + kNq);
+  ydot_q = qd;
+  ydot_qd = c->data.qdd;
+  return c->data.qdd.allFinite() ? 0 : 1;
+}
+
+int Roots(double /*t*/, const double* y, double* g, void* user) {
+  auto* c = static_cast<RunContext*>(user);
+  const Model& model = *c->setup->model;
+  const Vec7 q = Eigen::Map<const Vec7>(y);
+  const Vec7 qd = Eigen::Map<const Vec7>(y + kNq);
+  ComputeLinkAngles(model, q, qd, &c->data);
+  ComputeFootKinematics(model, q, qd, &c->data);
+  const Terrain& terrain = c->setup->terrain;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const Vec2& pos = c->data.foot_pos[leg];
+    const Vec2& vel = c->data.foot_vel[leg];
+    g[2 * leg] = TouchGuard(terrain, c->feet[leg], pos);
+    g[2 * leg + 1] = FrictionGuard(c->setup->contact, terrain, c->feet[leg], pos, vel);
+    for (int j = 0; j < c->num_obstacles; ++j) {
+      g[2 * kNumLegs + leg * c->num_obstacles + j] = SpanGuard(terrain, c->feet[leg], pos, j);
+    }
+  }
+  return 0;
+}
+
+std::string Describe(const char* what, double t) {
+  std::ostringstream out;
+  out << what << " at t = " << t << " s";
+  return out.str();
+}
+
+// Ends the run when the state is not finite, the robot fell, or a link entered an obstacle.
+bool CheckState(const SimSetup& setup, const SimSample& s, SimResult* result) {
+  if (!s.q.allFinite() || !s.qd.allFinite()) {
+    result->outcome = Outcome::kDiverged;
+    result->reason = Describe("state became non-finite", s.t);
+    return false;
+  }
+  const Pose pose = ComputePose(*setup.model, s.q);
+  const Terrain& terrain = setup.terrain;
+  if (setup.options.contact) {
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      if (terrain.SegmentHitsObstacle(pose.knee[leg], pose.foot[leg], kObstacleTopMargin) >= 0 ||
+          terrain.SegmentHitsObstacle(pose.hip, pose.knee[leg], kObstacleTopMargin) >= 0) {
+        result->outcome = Outcome::kTripped;
+        result->reason = Describe(leg == 0 ? "leg 1 hit an obstacle" : "leg 2 hit an obstacle",
+                                  s.t);
+        return false;
+      }
+    }
+  }
+  const FallCriteria& fall = setup.options.fall;
+  if (!fall.enabled) return true;
+  const char* why = nullptr;
+  if (s.q[kY] < fall.min_hip_height) why = "hip below the fall height";
+  if (std::abs(s.q[kQ0]) > fall.max_trunk_pitch) why = "trunk pitch beyond the fall limit";
+  if (setup.options.contact) {
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      if (pose.knee[leg].y() <= terrain.HeightAt(pose.knee[leg].x())) why = "a knee touched ground";
+    }
+  }
+  if (why == nullptr) return true;
+  result->outcome = Outcome::kFell;
+  result->reason = Describe(why, s.t);
+  return false;
+}
+
+}  // namespace
+
+SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Controller* controller) {
+  std::string error;
+  if (setup.model == nullptr) throw std::invalid_argument("SimSetup has no model");
+  if (!setup.options.IsValid(&error) || !setup.contact.IsValid(&error) ||
+      !setup.actuator.IsValid(&error) || !setup.terrain.IsValid(&error)) {
+    throw std::invalid_argument(error);
+  }
+  const Model& model = *setup.model;
+  const SimOptions& opt = setup.options;
+  const Terrain& terrain = setup.terrain;
+
+  RunContext ctx;
+  ctx.setup = &setup;
+  ctx.num_obstacles = static_cast<int>(terrain.obstacles.size());
+  if (opt.contact) {
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      ctx.feet[leg] = InitialFootState(terrain, FootPosition(model, q0, leg));
+    }
+  }
+  double y[kStateSize];
+  Eigen::Map<Vec7> y_q(y), y_qd(y + kNq);
+  y_q = q0;
+  y_qd = qd0;
+  const int num_roots = opt.contact ? 2 * kNumLegs + kNumLegs * ctx.num_obstacles : 0;
+  std::unique_ptr<OdeIntegrator> integrator = OdeIntegrator::Create(
+      opt.integrator, kStateSize, num_roots, Rhs, Roots, &ctx, 0.0, y);
+
+  SimResult result;
+  const long num_periods = std::lround(std::ceil(opt.duration / opt.control_period - 1e-9));
+  std::vector<int> fired;
+  if (opt.record_every > 0) result.samples.reserve(num_periods / opt.record_every + 1);
+  Data sample_data;
+  for (long k = 0;; ++k) {
+    SimSample s;
+    s.t = static_cast<double>(k) * opt.control_period;
+    s.q = Eigen::Map<const Vec7>(y);
+    s.qd = Eigen::Map<const Vec7>(y + kNq);
+    Observation obs;
+    obs.t = s.t;
+    obs.q = s.q;
+    obs.qd = s.qd;
+    obs.terrain = &terrain;
+    ComputeDynamics(model, s.q, s.qd, &sample_data);
+    ComputeFootKinematics(model, s.q, s.qd, &sample_data);
+    s.elastic = 0.0;
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      const Vec2& pos = sample_data.foot_pos[leg];
+      s.foot_pos[leg] = obs.foot_pos[leg] = pos;
+      s.foot_mode[leg] = ctx.feet[leg].mode;
+      if (opt.contact) {
+        s.foot_force[leg] = ComputeFootForce(setup.contact, terrain, ctx.feet[leg], pos,
+                                             sample_data.foot_vel[leg]);
+        s.elastic += ContactElasticEnergy(setup.contact, terrain, ctx.feet[leg], pos);
+      }
+      obs.foot_force[leg] = s.foot_force[leg];
+      obs.foot_contact[leg] = s.foot_force[leg].fn > 0.0;
+    }
+    s.kinetic = 0.5 * s.qd.dot(sample_data.M * s.qd);
+    s.potential = PotentialEnergy(model, s.q);
+
+    const bool alive = CheckState(setup, s, &result);
+    if (alive && controller != nullptr) s.tau_cmd = controller->Compute(obs);
+    for (int j = 0; j < kNumJoints; ++j) {
+      SaturationRegion region;
+      s.tau[j] = SaturateTorque(setup.actuator, s.tau_cmd[j], s.qd[3 + j], &region);
+      if (region != SaturationRegion::kNone) ++result.saturated_periods[j];
+    }
+    ctx.tau = s.tau;
+    result.t_end = s.t;
+    if (opt.record_every > 0 && (k % opt.record_every == 0 || !alive || k == num_periods)) {
+      result.samples.push_back(s);
+    }
+    if (!alive || k == num_periods) break;
+    result.num_periods = k + 1;
+
+    // Integrate over the control period, stopping at every event.
+    const double t_next = static_cast<double>(k + 1) * opt.control_period;
+    double t = s.t;
+    int events = 0;
+    bool ok = true;
+    while (ok) {
+      const OdeIntegrator::Status status = integrator->Advance(t_next, &t, y);
+      if (status == OdeIntegrator::Status::kReachedStop) break;
+      if (status == OdeIntegrator::Status::kFailure) {
+        result.outcome = Outcome::kDiverged;
+        result.reason = Describe("integrator failure", t) + ": " + integrator->error();
+        ok = false;
+        break;
+      }
+      ++result.num_events;
+      if (++events > opt.max_events_per_period) {
+        result.outcome = Outcome::kDiverged;
+        result.reason = Describe("contact events chattering", t);
+        ok = false;
+        break;
+      }
+      integrator->RootsFound(&fired);
+      const Vec7 q = Eigen::Map<const Vec7>(y);
+      const Vec7 qd = Eigen::Map<const Vec7>(y + kNq);
+      ComputeLinkAngles(model, q, qd, &ctx.data);
+      ComputeFootKinematics(model, q, qd, &ctx.data);
+      for (int leg = 0; leg < kNumLegs && ok; ++leg) {
+        const Vec2 pos = ctx.data.foot_pos[leg];
+        const Vec2 vel = ctx.data.foot_vel[leg];
+        for (int j = 0; j < ctx.num_obstacles; ++j) {
+          if (fired[2 * kNumLegs + leg * ctx.num_obstacles + j] == 0) continue;
+          if (!UpdateFootSurface(terrain, pos, &ctx.feet[leg])) {
+            result.outcome = Outcome::kTripped;
+            result.reason = Describe(
+                leg == 0 ? "foot 1 hit an obstacle's side" : "foot 2 hit an obstacle's side", t);
+            ok = false;
+          }
+        }
+        if (fired[2 * leg] != 0) OnTouchEvent(pos, vel, &ctx.feet[leg]);
+        if (fired[2 * leg + 1] != 0) {
+          OnFrictionEvent(setup.contact, terrain, pos, vel, &ctx.feet[leg]);
+        }
+      }
+      if (ok) integrator->Reinit(t, y);
+    }
+    if (!ok) {
+      result.t_end = t;
+      break;
+    }
+    if (opt.reinit_at_samples) integrator->Reinit(t_next, y);
+  }
+  result.integrator = integrator->Stats();
+  return result;
+}
+
+}  // namespace rabbit

@@ -1,0 +1,87 @@
+// The simulation loop: SUNDIALS integration of the RABBIT dynamics with compliant contact, a
+// controller sampled at a fixed rate with zero-order-hold torques, actuator saturation, events
+// (touchdown, lift-off, stick/slide, obstacle edges) located by root finding, and fall/trip checks.
+#ifndef RABBIT_SIM_SIMULATOR_H_
+#define RABBIT_SIM_SIMULATOR_H_
+
+#include <array>
+#include <string>
+#include <vector>
+
+#include "rabbit/contact/actuator.h"
+#include "rabbit/contact/contact.h"
+#include "rabbit/contact/terrain.h"
+#include "rabbit/model/model.h"
+#include "rabbit/sim/controller.h"
+#include "rabbit/sim/integrator.h"
+
+namespace rabbit {
+
+// When a run counts as a fall (DESIGN.md section 2). Any knee at or below the ground also counts.
+struct FallCriteria {
+  double min_hip_height = 0.6;       // m
+  double max_trunk_pitch = 0.785398;  // rad (45 deg)
+  bool enabled = true;
+};
+
+struct SimOptions {
+  double duration = 5.0;         // s
+  double control_period = 1e-3;  // s (1 kHz)
+  bool contact = true;           // false: no ground at all (free flight / swing studies)
+  bool reinit_at_samples = false;
+  int max_events_per_period = 100;  // more means chattering: the run ends as diverged
+  int record_every = 1;             // keep every n-th sample in the result (0 = none)
+  IntegratorOptions integrator;
+  FallCriteria fall;
+  bool IsValid(std::string* error) const;
+};
+
+enum class Outcome { kCompleted, kFell, kTripped, kDiverged };
+const char* OutcomeName(Outcome outcome);
+
+struct SimSample {
+  double t = 0.0;
+  Vec7 q = Vec7::Zero(), qd = Vec7::Zero();
+  Vec4 tau_cmd = Vec4::Zero();  // what the controller asked for
+  Vec4 tau = Vec4::Zero();      // what the actuators applied (after saturation)
+  std::array<Vec2, kNumLegs> foot_pos;
+  std::array<FootForce, kNumLegs> foot_force{};
+  std::array<ContactMode, kNumLegs> foot_mode{};
+  double kinetic = 0.0, potential = 0.0, elastic = 0.0;
+};
+
+struct SimResult {
+  Outcome outcome = Outcome::kCompleted;
+  std::string reason;  // why the run ended early (empty when completed)
+  double t_end = 0.0;
+  std::vector<SimSample> samples;
+  IntegratorStats integrator;
+  long num_events = 0;
+  long num_periods = 0;
+  std::array<long, kNumJoints> saturated_periods{};  // control periods with saturation per joint
+  double saturation_time(int joint, double period) const {
+    return static_cast<double>(saturated_periods[joint]) * period;
+  }
+};
+
+// Everything a run needs besides its initial state and controller. The model and terrain are
+// shared read-only (several threads may simulate with one Setup).
+struct SimSetup {
+  const Model* model = nullptr;
+  ContactParams contact;
+  ActuatorParams actuator;
+  Terrain terrain;
+  SimOptions options;
+};
+
+// Runs one simulation from (q0, qd0). Never throws for physical failures (falls, trips, integrator
+// failures, NaN): they end the run with an Outcome and a reason. Throws std::invalid_argument for
+// invalid options.
+SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Controller* controller);
+
+// Total mechanical energy of a sample: kinetic + potential + contact elastic.
+inline double TotalEnergy(const SimSample& s) { return s.kinetic + s.potential + s.elastic; }
+
+}  // namespace rabbit
+
+#endif  // RABBIT_SIM_SIMULATOR_H_
