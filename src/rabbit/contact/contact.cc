@@ -21,6 +21,10 @@ bool ContactParams::IsValid(std::string* error) const {
     *error = "k_n and k_t must be > 0";
     return false;
   }
+  if (!(resume_fraction >= 0.0 && resume_fraction <= 1.0)) {
+    *error = "resume_fraction must be in [0, 1]";
+    return false;
+  }
   if (lambda_g > mu_s) {
     *error = "lambda_g (dynamic friction) must not exceed mu_s (static friction)";
     return false;
@@ -79,9 +83,9 @@ double TouchGuard(const Terrain& terrain, const FootContactState& state,
   return state.mode == ContactMode::kAir ? y : -y;
 }
 
-double FrictionGuard(const ContactParams& params, const Terrain& terrain,
-                     const FootContactState& state, const Eigen::Vector2d& pos,
-                     const Eigen::Vector2d& vel) {
+double SlipGuard(const ContactParams& params, const Terrain& terrain,
+                 const FootContactState& state, const Eigen::Vector2d& pos,
+                 const Eigen::Vector2d& vel) {
   switch (state.mode) {
     case ContactMode::kAir:
       return 1.0;
@@ -93,6 +97,15 @@ double FrictionGuard(const ContactParams& params, const Terrain& terrain,
       return state.slide_dir * vel.x();
   }
   return 1.0;
+}
+
+double ResumeGuard(const ContactParams& params, const Terrain& terrain,
+                   const FootContactState& state, const Eigen::Vector2d& pos,
+                   const Eigen::Vector2d& vel) {
+  if (state.mode != ContactMode::kSlide) return 1.0;
+  const double fn = NormalForce(params, FootHeight(terrain, state, pos), vel.y());
+  return (params.mu_g + params.lambda_t) * std::abs(vel.x()) -
+         params.resume_fraction * (params.mu_s - params.lambda_g) * fn;
 }
 
 double SpanGuard(const Terrain& terrain, const FootContactState& state,
@@ -124,7 +137,7 @@ void OnFrictionEvent(const ContactParams& params, const Terrain& terrain,
     if (state->slide_dir == 0.0) state->slide_dir = 1.0;
     state->mode = ContactMode::kSlide;
   } else if (state->mode == ContactMode::kSlide) {
-    // The slip stopped: re-anchor so that the spring carries the sliding force.
+    // The slip stopped or slowed enough: re-anchor so that the spring carries the sliding force.
     state->anchor_x = pos.x() + SlideForce(params, *state, fn, vel.x()) / params.k_t;
     state->mode = ContactMode::kStick;
   }
@@ -143,9 +156,11 @@ bool UpdateFootSurface(const Terrain& terrain, const Eigen::Vector2d& pos,
 }
 
 FootContactState InitialFootState(const Terrain& terrain, const Eigen::Vector2d& pos) {
+  // A foot placed "on" the ground by a computed pose may sit a rounding error above it.
+  constexpr double kOnSurfaceTolerance = 1e-9;  // m
   FootContactState state;
   state.surface = terrain.SurfaceAt(pos.x());
-  if (FootHeight(terrain, state, pos) <= 0.0) {
+  if (FootHeight(terrain, state, pos) <= kOnSurfaceTolerance) {
     state.mode = ContactMode::kStick;
     state.anchor_x = pos.x();
   }
@@ -156,12 +171,8 @@ double ContactElasticEnergy(const ContactParams& params, const Terrain& terrain,
                             const FootContactState& state, const Eigen::Vector2d& pos) {
   if (state.mode == ContactMode::kAir) return 0.0;
   const double y = std::min(0.0, FootHeight(terrain, state, pos));
-  double e = 0.5 * params.k_n * y * y;
-  if (state.mode == ContactMode::kStick) {
-    const double dx = pos.x() - state.anchor_x;
-    e += 0.5 * params.k_t * dx * dx;
-  }
-  return e;
+  const double dx = state.mode == ContactMode::kStick ? pos.x() - state.anchor_x : 0.0;
+  return 0.5 * params.k_n * y * y + 0.5 * params.k_t * dx * dx;
 }
 
 }  // namespace rabbit

@@ -10,8 +10,14 @@
 //   air   -> contact  when y crosses 0 downward (touchdown; anchor x_c = x);
 //   contact -> air    when y crosses 0 upward (lift-off);
 //   stick -> slide    when |Ft1| reaches mu_s Fn;
-//   slide -> stick    when the slip velocity reaches 0; the anchor moves to x + Ft2 / k_t so that
-//                     the spring carries the sliding force and sticking resumes without a jump.
+//   slide -> stick    when the slip reverses, or when the sticking force the foot would need at its
+//                     slip speed, |Ft2 - lambda_t xd| = lambda_g Fn + (mu_g + lambda_t)|xd|, falls
+//                     below lambda_g Fn + resume_fraction (mu_s - lambda_g) Fn. The anchor moves to
+//                     x + Ft2 / k_t (DESIGN.md): the spring carries the sliding force, so sticking
+//                     resumes without a jump in the spring force, inside the cone by a margin
+//                     (1 - resume_fraction)(mu_s - lambda_g) Fn, which keeps the switch from
+//                     chattering. A foot landing with some tangential speed starts in slide and
+//                     sticks as soon as its normal force can hold it (as the chapter's eq. 3).
 #ifndef RABBIT_CONTACT_CONTACT_H_
 #define RABBIT_CONTACT_CONTACT_H_
 
@@ -30,6 +36,8 @@ struct ContactParams {
   double mu_s = 0.8;      // static friction coefficient
   double lambda_g = 0.6;  // dynamic (Coulomb) friction coefficient
   double mu_g = 20.0;     // viscous friction while sliding, N s/m
+  // Where in the hysteresis band [lambda_g Fn, mu_s Fn] a slipping foot sticks again (0..1).
+  double resume_fraction = 0.5;
   bool IsValid(std::string* error) const;
 };
 
@@ -56,18 +64,24 @@ FootForce ComputeFootForce(const ContactParams& params, const Terrain& terrain,
                            const FootContactState& state, const Eigen::Vector2d& pos,
                            const Eigen::Vector2d& vel);
 
-// Guards for root finding, positive while the current mode holds (see file comment).
+// Guards for root finding, positive while the current mode holds (see file comment):
+// TouchGuard for air <-> contact; SlipGuard for stick -> slide and for a slip that reverses;
+// ResumeGuard for a slip slow enough to stick again (1 outside slide).
 double TouchGuard(const Terrain& terrain, const FootContactState& state, const Eigen::Vector2d& pos);
-double FrictionGuard(const ContactParams& params, const Terrain& terrain,
-                     const FootContactState& state, const Eigen::Vector2d& pos,
-                     const Eigen::Vector2d& vel);
+double SlipGuard(const ContactParams& params, const Terrain& terrain,
+                 const FootContactState& state, const Eigen::Vector2d& pos,
+                 const Eigen::Vector2d& vel);
+double ResumeGuard(const ContactParams& params, const Terrain& terrain,
+                   const FootContactState& state, const Eigen::Vector2d& pos,
+                   const Eigen::Vector2d& vel);
 // Guard of obstacle j's span [x_start, x_end]: positive while the foot stays on its side of it.
 double SpanGuard(const Terrain& terrain, const FootContactState& state, const Eigen::Vector2d& pos,
                  int obstacle);
 
 // Transitions, applied when the integrator reports that a guard turned negative:
 // OnTouchEvent toggles air <-> contact (touchdown anchors the spring at the impact point; a foot
-// that lands moving slides until it stops); OnFrictionEvent toggles stick <-> slide.
+// that lands moving starts in slide); OnFrictionEvent (SlipGuard or ResumeGuard) toggles
+// stick <-> slide.
 void OnTouchEvent(const Eigen::Vector2d& pos, const Eigen::Vector2d& vel, FootContactState* state);
 void OnFrictionEvent(const ContactParams& params, const Terrain& terrain,
                      const Eigen::Vector2d& pos, const Eigen::Vector2d& vel,
@@ -83,6 +97,8 @@ bool UpdateFootSurface(const Terrain& terrain, const Eigen::Vector2d& pos, FootC
 FootContactState InitialFootState(const Terrain& terrain, const Eigen::Vector2d& pos);
 
 // Energy stored in the contact springs: 0.5 k_n y^2 (y < 0) + 0.5 k_t (x - x_c)^2 (stick).
+// The contact law is passive (it never adds energy) but for one step: when slip stops, the anchor
+// rule of DESIGN.md (no force jump) loads the tangential spring with 0.5 Ft2^2 / k_t at once.
 double ContactElasticEnergy(const ContactParams& params, const Terrain& terrain,
                             const FootContactState& state, const Eigen::Vector2d& pos);
 

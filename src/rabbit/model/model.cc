@@ -29,6 +29,7 @@ Model::Model(const ModelParams& params) : params_(params) {
   const ModelParams& p = params_;
   total_mass_ = p.trunk_mass + 2.0 * (p.thigh_mass + p.shin_mass);
   joint_armature_ = p.gear_ratio * p.gear_ratio * p.rotor_inertia;
+  gravity_ = p.gravity * Vec2(std::sin(p.slope), -std::cos(p.slope));
 
   // Signed arm of each body's CoM along each link: trunk CoM = hip - trunk_com * e(a0);
   // thigh CoM = hip + thigh_com * e(a_th); shin CoM = hip + thigh_length e(a_th) + shin_com e(a_sh).
@@ -73,15 +74,17 @@ void ComputeDynamics(const Model& model, const Vec7& q, const Vec7& qd, Data* da
   const auto& c = data->cos_a;
   const auto& P = model.moments();
   const auto& m1 = model.first_moments();
-  const double g = model.params().gravity;
+  const double gx = model.gravity().x(), gy = model.gravity().y();
 
   // Mass matrix and nonlinear effects in absolute coordinates p.
   Mat7 Mp;
   Vec7 hp;
   Mp.setZero();
   Mp(0, 0) = Mp(1, 1) = model.total_mass();
-  hp[0] = 0.0;
-  hp[1] = model.total_mass() * g;
+  // Gravity: V = -sum_b m_b g . p_b, so dV/dx = -m gx, dV/dy = -m gy and
+  // dV/da_i = -c_i g . e'(a_i) = -c_i (gx cos a_i + gy sin a_i).
+  hp[0] = -model.total_mass() * gx;
+  hp[1] = -model.total_mass() * gy;
   for (int i = 0; i < 5; ++i) {
     const double ad2 = data->ad[i] * data->ad[i];
     // Translational rows: M_p[xy, a_i] = c_i e'(a_i); bias -c_i ad_i^2 e(a_i).
@@ -89,7 +92,7 @@ void ComputeDynamics(const Model& model, const Vec7& q, const Vec7& qd, Data* da
     Mp(1, 2 + i) = Mp(2 + i, 1) = m1[i] * s[i];
     hp[0] -= m1[i] * ad2 * s[i];
     hp[1] += m1[i] * ad2 * c[i];
-    double hi = g * m1[i] * s[i];
+    double hi = -m1[i] * (gx * c[i] + gy * s[i]);
     for (int j = 0; j < 5; ++j) {
       if (P(i, j) == 0.0) continue;
       // cos(a_i - a_j) and sin(a_j - a_i) from the cached sines and cosines.
@@ -199,7 +202,7 @@ Vec2 CenterOfMass(const Model& model, const Vec7& q) {
 }
 
 double PotentialEnergy(const Model& model, const Vec7& q) {
-  return model.total_mass() * model.params().gravity * CenterOfMass(model, q).y();
+  return -model.total_mass() * model.gravity().dot(CenterOfMass(model, q));
 }
 
 }  // namespace rabbit

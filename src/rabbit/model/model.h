@@ -56,11 +56,14 @@ class Model {
   // p = B q.
   const Mat7& B() const { return b_; }
   double joint_armature() const { return joint_armature_; }
+  // Gravity vector in the simulation frame, gravity * (sin slope, -cos slope).
+  const Vec2& gravity() const { return gravity_; }
 
  private:
   ModelParams params_;
   double total_mass_ = 0.0;
   double joint_armature_ = 0.0;
+  Vec2 gravity_ = Vec2::Zero();
   Eigen::Matrix<double, 5, 5> moments_;
   Eigen::Matrix<double, 5, 1> first_moments_;
   Eigen::Matrix<double, 5, 1> link_inertias_;
@@ -112,7 +115,8 @@ Mat27 FootJacobian(const Model& model, const Vec7& q, int leg);
 // Generalized force of the motor torques tau = [T_hip1, T_knee1, T_hip2, T_knee2].
 Vec7 JointTorqueToGeneralized(const Vec4& tau);
 
-// Kinetic energy 0.5 qd^T M qd and gravitational potential energy sum m_b g y_b.
+// Kinetic energy 0.5 qd^T M qd and gravitational potential energy -sum m_b g . p_b (= sum m_b g
+// y_b on flat ground).
 double KineticEnergy(const Model& model, const Vec7& q, const Vec7& qd);
 double PotentialEnergy(const Model& model, const Vec7& q);
 // Position of the whole robot's centre of mass.

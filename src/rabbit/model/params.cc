@@ -31,6 +31,10 @@ bool ModelParams::IsValid(std::string* error) const {
       return false;
     }
   }
+  if (!std::isfinite(slope) || std::abs(slope) >= 1.0) {
+    *error = "slope must be finite and below 1 rad (57 deg) in magnitude";
+    return false;
+  }
   if (thigh_com > thigh_length) {
     *error = "thigh_com must not exceed thigh_length";
     return false;

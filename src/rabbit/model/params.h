@@ -29,8 +29,12 @@ struct ModelParams {
   // diagonal of each joint coordinate. Default 0, as in the chapter's ADAMS model.
   double rotor_inertia = 0.0;
   double gear_ratio = 50.0;
-  // Gravitational acceleration (m/s^2), acting along -y. 0 switches gravity off.
+  // Gravitational acceleration (m/s^2). 0 switches gravity off.
   double gravity = 9.81;
+  // Uniform ground slope (rad), positive when the ground descends toward +x. The simulation runs in
+  // the slope-aligned frame (x along the ground, y normal to it), so the slope tilts gravity:
+  // g = gravity * (sin slope, -cos slope). Exact for a uniform slope; obstacles stand on it.
+  double slope = 0.0;
 
   // True when every parameter is finite and physically possible; otherwise fills *error with
   // the name of the first offending parameter.

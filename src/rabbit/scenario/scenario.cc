@@ -44,6 +44,7 @@ ContactParams ReadContact(TomlReader t) {
   p.mu_s = t.Double("mu_s", p.mu_s);
   p.lambda_g = t.Double("lambda_g", p.lambda_g);
   p.mu_g = t.Double("mu_g", p.mu_g);
+  p.resume_fraction = t.Double("resume_fraction", p.resume_fraction);
   t.Finish();
   Validate(t, p);
   return p;
@@ -61,8 +62,10 @@ ActuatorParams ReadActuator(TomlReader t) {
   return p;
 }
 
-Terrain ReadTerrain(TomlReader t) {
+Terrain ReadTerrain(TomlReader t, ModelParams* model) {
   Terrain terrain;
+  model->slope = t.Double("slope_deg", model->slope / kDeg) * kDeg;
+  Validate(t, *model);
   for (TomlReader& o : t.TableArray("obstacles")) {
     Obstacle obstacle;
     obstacle.x_start = o.RequiredDouble("x_start");
@@ -218,7 +221,7 @@ Scenario LoadScenario(const std::string& path) {
   ReadSimulation(root.Table("simulation"), &s);  // may switch gravity off in s.model
   s.contact = ReadContact(root.Table("contact"));
   s.actuator = ReadActuator(root.Table("actuator"));
-  s.terrain = ReadTerrain(root.Table("terrain"));
+  s.terrain = ReadTerrain(root.Table("terrain"), &s.model);
   ReadFall(root.Table("fall"), &s.options.fall);
   ReadInitial(root.Table("initial"), Model(s.model), &s);
   ReadController(root.Table("controller"), &s);

@@ -45,6 +45,8 @@ bool SimOptions::IsValid(std::string* error) const {
 namespace {
 
 constexpr int kStateSize = 2 * kNq;
+// Guards per foot: touch, slip, resume; then one per foot and obstacle (span).
+constexpr int kFootGuards = 3;
 // Foot penetration into an obstacle's top that does not count as a link entering it (m).
 constexpr double kObstacleTopMargin = 0.01;
 
@@ -90,10 +92,13 @@ int Roots(double /*t*/, const double* y, double* g, void* user) {
   for (int leg = 0; leg < kNumLegs; ++leg) {
     const Vec2& pos = c->data.foot_pos[leg];
     const Vec2& vel = c->data.foot_vel[leg];
-    g[2 * leg] = TouchGuard(terrain, c->feet[leg], pos);
-    g[2 * leg + 1] = FrictionGuard(c->setup->contact, terrain, c->feet[leg], pos, vel);
+    const ContactParams& contact = c->setup->contact;
+    g[kFootGuards * leg] = TouchGuard(terrain, c->feet[leg], pos);
+    g[kFootGuards * leg + 1] = SlipGuard(contact, terrain, c->feet[leg], pos, vel);
+    g[kFootGuards * leg + 2] = ResumeGuard(contact, terrain, c->feet[leg], pos, vel);
     for (int j = 0; j < c->num_obstacles; ++j) {
-      g[2 * kNumLegs + leg * c->num_obstacles + j] = SpanGuard(terrain, c->feet[leg], pos, j);
+      g[kFootGuards * kNumLegs + leg * c->num_obstacles + j] =
+          SpanGuard(terrain, c->feet[leg], pos, j);
     }
   }
   return 0;
@@ -166,7 +171,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
   Eigen::Map<Vec7> y_q(y), y_qd(y + kNq);
   y_q = q0;
   y_qd = qd0;
-  const int num_roots = opt.contact ? 2 * kNumLegs + kNumLegs * ctx.num_obstacles : 0;
+  const int num_roots = opt.contact ? kNumLegs * (kFootGuards + ctx.num_obstacles) : 0;
   std::unique_ptr<OdeIntegrator> integrator = OdeIntegrator::Create(
       opt.integrator, kStateSize, num_roots, Rhs, Roots, &ctx, 0.0, y);
 
@@ -248,7 +253,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
         const Vec2 pos = ctx.data.foot_pos[leg];
         const Vec2 vel = ctx.data.foot_vel[leg];
         for (int j = 0; j < ctx.num_obstacles; ++j) {
-          if (fired[2 * kNumLegs + leg * ctx.num_obstacles + j] == 0) continue;
+          if (fired[kFootGuards * kNumLegs + leg * ctx.num_obstacles + j] == 0) continue;
           if (!UpdateFootSurface(terrain, pos, &ctx.feet[leg])) {
             result.outcome = Outcome::kTripped;
             result.reason = Describe(
@@ -256,9 +261,15 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
             ok = false;
           }
         }
-        if (fired[2 * leg] != 0) OnTouchEvent(pos, vel, &ctx.feet[leg]);
-        if (fired[2 * leg + 1] != 0) {
+        const ContactMode before = ctx.feet[leg].mode;
+        if (fired[kFootGuards * leg] != 0) OnTouchEvent(pos, vel, &ctx.feet[leg]);
+        if (fired[kFootGuards * leg + 1] != 0 || fired[kFootGuards * leg + 2] != 0) {
           OnFrictionEvent(setup.contact, terrain, pos, vel, &ctx.feet[leg]);
+        }
+        if (ctx.feet[leg].mode != before) {
+          const FootForce f = ComputeFootForce(setup.contact, terrain, ctx.feet[leg], pos, vel);
+          result.events.push_back({t, leg, before, ctx.feet[leg].mode, pos.x(), pos.y(), f.fn, f.ft,
+                                   ctx.feet[leg].anchor_x});
         }
       }
       if (ok) integrator->Reinit(t, y);

@@ -50,6 +50,18 @@ struct SimSample {
   double kinetic = 0.0, potential = 0.0, elastic = 0.0;
 };
 
+// A change of a foot's contact mode, located by root finding.
+struct ContactEvent {
+  double t = 0.0;
+  int leg = 0;
+  ContactMode from = ContactMode::kAir, to = ContactMode::kAir;
+  double x = 0.0;  // foot position at the event
+  double y = 0.0;
+  double fn = 0.0;  // contact force just after the event
+  double ft = 0.0;
+  double anchor_x = 0.0;  // sticking spring's anchor after the event
+};
+
 struct SimResult {
   Outcome outcome = Outcome::kCompleted;
   std::string reason;  // why the run ended early (empty when completed)
@@ -57,6 +69,7 @@ struct SimResult {
   std::vector<SimSample> samples;
   IntegratorStats integrator;
   long num_events = 0;
+  std::vector<ContactEvent> events;  // every contact mode change, in time order
   long num_periods = 0;
   std::array<long, kNumJoints> saturated_periods{};  // control periods with saturation per joint
   double saturation_time(int joint, double period) const {
