@@ -163,7 +163,9 @@ TEST_P(SimulatorTest, StandingFeetDoNotSlip) {
 // whole it needs Ft / Fn = tan(slope): it sticks when tan(slope) < mu_s and slides otherwise. Each
 // foot also carries the A-frame's internal thrust (Ft / Fn = 0.37 on flat ground in this stance:
 // the contact springs are far stiffer than the joint servos), so the sticking case keeps a margin;
-// in the sliding case both feet move down the slope, which thrust alone would not do.
+// in the sliding case both feet move down the slope, which thrust alone would not do. (The feet
+// start exactly on the ground with zero force, where the slip guard is exactly zero: SUNDIALS
+// does not report its first sign change, and the simulator's once-per-period check must.)
 SimResult StandOnSlope(IntegratorKind kind, double slope_deg, double mu_s, double lambda_g) {
   ModelParams params;
   params.slope = slope_deg * kDeg;

@@ -146,6 +146,56 @@ bool CheckState(const SimSetup& setup, const SimSample& s, SimResult* result) {
   return false;
 }
 
+
+// Transitions a foot is due, from the guards that fired or from guards found violated.
+struct FootTriggers {
+  bool touch = false;
+  bool friction = false;
+  bool span = false;
+  bool any() const { return touch || friction || span; }
+};
+
+// Applies one foot's due transitions at time t, with its position and velocity in ctx->data, and
+// records every mode change. Returns false when the foot entered an obstacle through its side.
+bool ApplyTransitions(const SimSetup& setup, int leg, const FootTriggers& due, double t,
+                      RunContext* ctx, SimResult* result) {
+  const Vec2 pos = ctx->data.foot_pos[leg];
+  const Vec2 vel = ctx->data.foot_vel[leg];
+  FootContactState& foot = ctx->feet[leg];
+  if (due.span && !UpdateFootSurface(setup.terrain, pos, &foot)) {
+    result->outcome = Outcome::kTripped;
+    result->reason =
+        Describe(leg == 0 ? "foot 1 hit an obstacle's side" : "foot 2 hit an obstacle's side", t);
+    return false;
+  }
+  const ContactMode before = foot.mode;
+  if (due.touch) OnTouchEvent(pos, vel, &foot);
+  if (due.friction) OnFrictionEvent(setup.contact, setup.terrain, pos, vel, &foot);
+  if (foot.mode != before) {
+    const FootForce f = ComputeFootForce(setup.contact, setup.terrain, foot, pos, vel);
+    result->events.push_back(
+        {t, leg, before, foot.mode, pos.x(), pos.y(), f.fn, f.ft, foot.anchor_x});
+  }
+  return true;
+}
+
+// Guards that are negative although no event fired. SUNDIALS reports only sign changes, and a
+// guard that is exactly zero where the integration (re)starts is switched off until it leaves
+// zero, so a foot placed exactly at the cone's edge, or released exactly on the ground, could
+// miss its first transition. Checked once per control period: a missed event is caught within
+// one period. (The resume guard starts negative by design and is not checked.)
+FootTriggers ViolatedGuards(const SimSetup& setup, const RunContext& ctx, int leg) {
+  const Vec2& pos = ctx.data.foot_pos[leg];
+  const Vec2& vel = ctx.data.foot_vel[leg];
+  const FootContactState& foot = ctx.feet[leg];
+  FootTriggers due;
+  due.span = setup.terrain.SurfaceAt(pos.x()) != foot.surface;
+  due.touch = TouchGuard(setup.terrain, foot, pos) < 0.0;
+  due.friction = !due.touch && foot.mode != ContactMode::kAir &&
+                 SlipGuard(setup.contact, setup.terrain, foot, pos, vel) < 0.0;
+  return due;
+}
+
 }  // namespace
 
 SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Controller* controller) {
@@ -250,29 +300,30 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       ComputeLinkAngles(model, q, qd, &ctx.data);
       ComputeFootKinematics(model, q, qd, &ctx.data);
       for (int leg = 0; leg < kNumLegs && ok; ++leg) {
-        const Vec2 pos = ctx.data.foot_pos[leg];
-        const Vec2 vel = ctx.data.foot_vel[leg];
+        FootTriggers due;
+        due.touch = fired[kFootGuards * leg] != 0;
+        due.friction = fired[kFootGuards * leg + 1] != 0 || fired[kFootGuards * leg + 2] != 0;
         for (int j = 0; j < ctx.num_obstacles; ++j) {
-          if (fired[kFootGuards * kNumLegs + leg * ctx.num_obstacles + j] == 0) continue;
-          if (!UpdateFootSurface(terrain, pos, &ctx.feet[leg])) {
-            result.outcome = Outcome::kTripped;
-            result.reason = Describe(
-                leg == 0 ? "foot 1 hit an obstacle's side" : "foot 2 hit an obstacle's side", t);
-            ok = false;
-          }
+          due.span |= fired[kFootGuards * kNumLegs + leg * ctx.num_obstacles + j] != 0;
         }
-        const ContactMode before = ctx.feet[leg].mode;
-        if (fired[kFootGuards * leg] != 0) OnTouchEvent(pos, vel, &ctx.feet[leg]);
-        if (fired[kFootGuards * leg + 1] != 0 || fired[kFootGuards * leg + 2] != 0) {
-          OnFrictionEvent(setup.contact, terrain, pos, vel, &ctx.feet[leg]);
-        }
-        if (ctx.feet[leg].mode != before) {
-          const FootForce f = ComputeFootForce(setup.contact, terrain, ctx.feet[leg], pos, vel);
-          result.events.push_back({t, leg, before, ctx.feet[leg].mode, pos.x(), pos.y(), f.fn, f.ft,
-                                   ctx.feet[leg].anchor_x});
-        }
+        ok = ApplyTransitions(setup, leg, due, t, &ctx, &result);
       }
       if (ok) integrator->Reinit(t, y);
+    }
+    if (ok && opt.contact) {
+      // Catch a transition the root finding could not see (see ViolatedGuards).
+      const Vec7 q = Eigen::Map<const Vec7>(y);
+      const Vec7 qd = Eigen::Map<const Vec7>(y + kNq);
+      ComputeLinkAngles(model, q, qd, &ctx.data);
+      ComputeFootKinematics(model, q, qd, &ctx.data);
+      bool changed = false;
+      for (int leg = 0; leg < kNumLegs && ok; ++leg) {
+        const FootTriggers due = ViolatedGuards(setup, ctx, leg);
+        if (!due.any()) continue;
+        changed = true;
+        ok = ApplyTransitions(setup, leg, due, t_next, &ctx, &result);
+      }
+      if (ok && changed && !opt.reinit_at_samples) integrator->Reinit(t_next, y);
     }
     if (!ok) {
       result.t_end = t;
