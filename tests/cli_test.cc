@@ -1,1 +1,121 @@
+// The rabbit CLI end to end: exit codes (0 success, 1 failed criteria, 2 bad input or usage), the
+// error message naming file and key, and the CSV it writes. Runs the built binary.
+#include <gtest/gtest.h>
 
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace {
+
+namespace fs = std::filesystem;
+
+struct CliRun {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+CliRun RunCli(const std::string& args) {
+  const std::string command = std::string(RABBIT_CLI_PATH) + " " + args + " 2>&1";
+  CliRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) run.output.append(buffer, n);
+  const int status = pclose(pipe);
+  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+class CliTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rabbit_cli_test_" + std::string(
+                                     ::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  std::string Scenario(const std::string& name) const {
+    return std::string(RABBIT_SOURCE_DIR) + "/scenarios/" + name;
+  }
+  fs::path dir_;
+};
+
+TEST_F(CliTest, HelpAndVersion) {
+  const CliRun version = RunCli("--version");
+  EXPECT_EQ(version.code, 0);
+  EXPECT_NE(version.output.find("rabbit "), std::string::npos);
+  const CliRun help = RunCli("simulate --help");
+  EXPECT_EQ(help.code, 0);
+  EXPECT_NE(help.output.find("--out"), std::string::npos);
+}
+
+TEST_F(CliTest, UsageErrorsExitTwo) {
+  EXPECT_EQ(RunCli("").code, 2);
+  EXPECT_EQ(RunCli("frobnicate").code, 2);
+  EXPECT_EQ(RunCli("simulate").code, 2);
+  EXPECT_EQ(RunCli("simulate " + Scenario("drop_2cm.toml") + " --integrator euler").code, 2);
+}
+
+TEST_F(CliTest, SimulateWritesTrajectoryCsv) {
+  const std::string out = (dir_ / "sub" / "drop.csv").string();
+  const CliRun run = RunCli("simulate " + Scenario("drop_2cm.toml") + " --out " + out);
+  ASSERT_EQ(run.code, 0) << run.output;
+  EXPECT_NE(run.output.find("outcome    completed"), std::string::npos) << run.output;
+  std::ifstream csv(out);
+  std::string header;
+  std::getline(csv, header);
+  for (const char* column : {"t_s", "q0_rad", "q22d_rad_s", "tau_hip1_nm", "foot1_fn_n",
+                             "foot2_mode", "total_energy_j"}) {
+    EXPECT_NE(header.find(column), std::string::npos) << column;
+  }
+  size_t rows = 0;
+  for (std::string line; std::getline(csv, line);) ++rows;
+  EXPECT_EQ(rows, 1501u);  // 1.5 s at 1 kHz, both ends
+  // No temporary left behind.
+  for (const auto& entry : fs::directory_iterator(dir_ / "sub")) {
+    EXPECT_EQ(entry.path().filename(), "drop.csv");
+  }
+}
+
+TEST_F(CliTest, ExpectedOutcomeMismatchExitsOne) {
+  const std::string path = Write("expect.toml", R"(
+expect_outcome = "completed"
+[simulation]
+duration = 2.0
+[initial]
+foot_clearance = 0.0
+q11_deg = 20
+q12_deg = -20
+q21_deg = -10
+q22_deg = -20
+)");
+  const CliRun run = RunCli("simulate " + path + " --out " + (dir_ / "t.csv").string());
+  EXPECT_EQ(run.code, 1) << run.output;
+  EXPECT_NE(run.output.find("fell"), std::string::npos) << run.output;
+}
+
+TEST_F(CliTest, BadInputExitsTwoNamingFileAndKeyAndWritesNothing) {
+  const std::string path = Write("bad.toml", "[simulation]\nduration = 1\nrtoll = 1e-6\n[initial]\ny = 1\n");
+  const std::string out = (dir_ / "never.csv").string();
+  const CliRun run = RunCli("simulate " + path + " --out " + out);
+  EXPECT_EQ(run.code, 2);
+  EXPECT_NE(run.output.find(path + ":3"), std::string::npos) << run.output;
+  EXPECT_NE(run.output.find("simulation.rtoll"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(out));
+  const CliRun missing = RunCli("simulate " + (dir_ / "nope.toml").string());
+  EXPECT_EQ(missing.code, 2);
+  EXPECT_NE(missing.output.find("no such file"), std::string::npos) << missing.output;
+}
+
+}  // namespace

@@ -1,1 +1,166 @@
+// Scenario files: the shipped examples load; every kind of bad input is refused with an
+// InputError that names the file, the line and the key.
+#include "rabbit/scenario/scenario.h"
 
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+
+#include "rabbit/io/error.h"
+#include "rabbit/io/toml_reader.h"
+
+namespace rabbit {
+namespace {
+
+namespace fs = std::filesystem;
+
+class ScenarioFileTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rabbit_scenario_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
+            "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Write(const std::string& name, const std::string& text) {
+    const fs::path path = dir_ / name;
+    std::ofstream(path) << text;
+    return path.string();
+  }
+  // Expects LoadScenario to throw an InputError whose message holds every fragment.
+  void ExpectError(const std::string& text, int line, const std::string& key,
+                   const std::string& fragment) {
+    const std::string path = Write("bad.toml", text);
+    try {
+      LoadScenario(path);
+      ADD_FAILURE() << "no error for:\n" << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), path);
+      if (line > 0) {
+        EXPECT_EQ(e.line(), line) << e.what();
+      }
+      EXPECT_EQ(e.key(), key) << e.what();
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+  fs::path dir_;
+};
+
+const char* kMinimal = R"(
+[simulation]
+duration = 1.0
+[initial]
+y = 0.9
+)";
+
+TEST_F(ScenarioFileTest, ShippedScenariosLoad) {
+  int count = 0;
+  for (const auto& entry : fs::directory_iterator(fs::path(RABBIT_SOURCE_DIR) / "scenarios")) {
+    if (entry.path().extension() != ".toml" || entry.path().filename() == "model.toml") continue;
+    EXPECT_NO_THROW(LoadScenario(entry.path().string())) << entry.path();
+    ++count;
+  }
+  EXPECT_GE(count, 4);
+}
+
+TEST_F(ScenarioFileTest, DefaultsAndDegreesAtTheEdge) {
+  const Scenario s = LoadScenario(Write("ok.toml", std::string(kMinimal) + R"(
+q0_deg = 90.0
+[controller]
+type = "pd_hold"
+kp = [1, 2, 3, 4]
+kd = 5
+target_deg = [180, 0, 0, 0]
+)"));
+  EXPECT_EQ(s.name, "ok");
+  EXPECT_DOUBLE_EQ(s.q0[kQ0], M_PI / 2);
+  EXPECT_EQ(s.controller, ControllerKind::kPdHold);
+  EXPECT_DOUBLE_EQ(s.pd_hold.kp[3], 4.0);
+  EXPECT_DOUBLE_EQ(s.pd_hold.kd[0], 5.0);
+  EXPECT_DOUBLE_EQ(s.pd_hold.target[0], M_PI);
+  EXPECT_DOUBLE_EQ(s.options.control_period, 1e-3);
+  EXPECT_DOUBLE_EQ(s.model.trunk_mass, 12.0);
+}
+
+TEST_F(ScenarioFileTest, FootClearancePlacesLowestFoot) {
+  const Scenario s = LoadScenario(Write("ok.toml", R"(
+[simulation]
+duration = 1.0
+[initial]
+foot_clearance = 0.02
+q11_deg = 10
+q21_deg = -10
+)"));
+  const Model model(s.model);
+  EXPECT_NEAR(std::min(FootPosition(model, s.q0, 0).y(), FootPosition(model, s.q0, 1).y()), 0.02,
+              1e-12);
+}
+
+TEST_F(ScenarioFileTest, ModelFileWithOverrides) {
+  Write("model.toml", "[model]\ntrunk_mass = 15.0\nshin_length = 0.5\n");
+  const Scenario s = LoadScenario(Write("ok.toml", std::string(kMinimal) + R"(
+[model]
+file = "model.toml"
+shin_length = 0.45
+)"));
+  EXPECT_DOUBLE_EQ(s.model.trunk_mass, 15.0);
+  EXPECT_DOUBLE_EQ(s.model.shin_length, 0.45);
+}
+
+TEST_F(ScenarioFileTest, UnknownKeyNamesKeyAndLine) {
+  ExpectError(std::string(kMinimal) + "q0_dge = 3\n", 6, "initial.q0_dge", "unknown key");
+  ExpectError("[simulation]\nduration = 1\nrtoll = 1e-6\n[initial]\ny = 1\n", 3,
+              "simulation.rtoll", "unknown key");
+  ExpectError(std::string("speed = 3\n") + kMinimal, 1, "speed", "unknown key");
+}
+
+TEST_F(ScenarioFileTest, WrongTypesAndValues) {
+  ExpectError("[simulation]\nduration = \"long\"\n[initial]\ny = 1\n", 2, "simulation.duration",
+              "expected a number");
+  ExpectError("[simulation]\nduration = nan\n[initial]\ny = 1\n", 2, "simulation.duration",
+              "finite");
+  ExpectError("[simulation]\nduration = -1\n[initial]\ny = 1\n", 2, "simulation.duration",
+              ">= 0");
+  ExpectError("[simulation]\nduration = 1\nintegrator = \"euler\"\n[initial]\ny = 1\n", 3,
+              "simulation.integrator", "cvode");
+  ExpectError(std::string(kMinimal) + "[model]\nshin_mass = -3\n", 0, "model", "shin_mass");
+  ExpectError(std::string(kMinimal) + "[contact]\nmu_s = 0.1\n", 0, "contact", "lambda_g");
+  ExpectError(std::string(kMinimal) + "[controller]\ntype = \"walker\"\n", 7, "controller.type",
+              "unknown controller");
+  ExpectError(std::string(kMinimal) + "[controller]\ntype = \"pd_hold\"\nkp = [1, 2]\n", 8,
+              "controller.kp", "expected 4 numbers");
+  ExpectError(std::string(kMinimal) +
+                  "[[terrain.obstacles]]\nx_start = 1\nlength = 0.2\nheight = -0.05\n",
+              9, "terrain.obstacles[1].height", "> 0");
+}
+
+TEST_F(ScenarioFileTest, MissingPiecesAndSyntax) {
+  ExpectError("[initial]\ny = 1\n", 0, "simulation", "missing required key 'duration'");
+  ExpectError("[simulation]\nduration = 1\n", 0, "initial", "exactly one of");
+  ExpectError("[simulation]\nduration = 1\n[initial]\ny = 1\nfoot_clearance = 0\n", 0, "initial",
+              "exactly one of");
+  ExpectError("[simulation\nduration = 1\n", 1, "", "TOML syntax error");
+  try {
+    LoadScenario((dir_ / "missing.toml").string());
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("no such file"), std::string::npos);
+  }
+}
+
+TEST_F(ScenarioFileTest, ModelFileErrorsNameThatFile) {
+  const std::string model = Write("model.toml", "[model]\ntrunk_mas = 15.0\n");
+  try {
+    LoadModelFile(model);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), model);
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.key(), "model.trunk_mas");
+  }
+}
+
+}  // namespace
+}  // namespace rabbit
