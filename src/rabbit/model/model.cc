@@ -68,17 +68,15 @@ void ComputeLinkAngles(const Model& model, const Vec7& q, const Vec7& qd, Data* 
   }
 }
 
-void ComputeDynamics(const Model& model, const Vec7& q, const Vec7& qd, Data* data) {
+void ComputeAbsoluteDynamics(const Model& model, const Vec7& q, const Vec7& qd, Data* data) {
   ComputeLinkAngles(model, q, qd, data);
   const auto& s = data->sin_a;
   const auto& c = data->cos_a;
   const auto& P = model.moments();
   const auto& m1 = model.first_moments();
   const double gx = model.gravity().x(), gy = model.gravity().y();
-
-  // Mass matrix and nonlinear effects in absolute coordinates p.
-  Mat7 Mp;
-  Vec7 hp;
+  Mat7& Mp = data->Mp;
+  Vec7& hp = data->hp;
   Mp.setZero();
   Mp(0, 0) = Mp(1, 1) = model.total_mass();
   // Gravity: V = -sum_b m_b g . p_b, so dV/dx = -m gx, dV/dy = -m gy and
@@ -102,13 +100,93 @@ void ComputeDynamics(const Model& model, const Vec7& q, const Vec7& qd, Data* da
     Mp(2 + i, 2 + i) += model.link_inertias()[i];
     hp[2 + i] = hi;
   }
-  const Mat7& B = model.B();
-  data->M.noalias() = B.transpose() * Mp * B;
-  for (int j = kQ11; j <= kQ22; ++j) data->M(j, j) += model.joint_armature();
-  data->h.noalias() = B.transpose() * hp;
 }
 
-bool SolveForAcceleration(const Vec7& Q, Data* data) {
+namespace {
+
+// B^T v for v in absolute coordinates (p = B q; see the file comment of model.h).
+template <typename In>
+Vec7 ApplyBTranspose(const In& v) {
+  Vec7 out;
+  out << v[0], v[1], -(v[2] + v[3] + v[4] + v[5] + v[6]), v[3] + v[4], v[4], v[5] + v[6], v[6];
+  return out;
+}
+// B^-T Q: the absolute-coordinate force equivalent to the joint-space force Q.
+Vec7 ApplyBInverseTranspose(const Vec7& Q) {
+  Vec7 out;
+  out << Q[kX], Q[kY], -Q[kQ0] - Q[kQ11] - Q[kQ21], Q[kQ11] - Q[kQ12], Q[kQ12], Q[kQ21] - Q[kQ22],
+      Q[kQ22];
+  return out;
+}
+// B^-1 pdd: joint-space accelerations from absolute ones.
+Vec7 ApplyBInverse(const Vec7& p) {
+  Vec7 out;
+  out << p[0], p[1], -p[2], p[3] - p[2], p[4] - p[3], p[5] - p[2], p[6] - p[5];
+  return out;
+}
+
+// Solves Mp x = r using Mp = [m I2, C; C^T, D] with D = diag(trunk, 2x2 leg 1, 2x2 leg 2).
+bool SolveAbsolute(const Mat7& Mp, const Vec7& r, Vec7* x) {
+  // Y = D^-1 [C^T | r2]: three right-hand sides per block.
+  Eigen::Matrix<double, 5, 3> rhs;
+  rhs.leftCols<2>() = Mp.block<5, 2>(2, 0);
+  rhs.col(2) = r.tail<5>();
+  Eigen::Matrix<double, 5, 3> Y;
+  if (!(Mp(2, 2) > 0.0)) return false;
+  Y.row(0) = rhs.row(0) / Mp(2, 2);
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const int k = 1 + 2 * leg;
+    const Eigen::Matrix2d Dk = Mp.block<2, 2>(2 + k, 2 + k);
+    const double det = Dk(0, 0) * Dk(1, 1) - Dk(0, 1) * Dk(1, 0);
+    if (!(det > 0.0 && Dk(0, 0) > 0.0)) return false;
+    Eigen::Matrix2d inv;
+    inv << Dk(1, 1), -Dk(0, 1), -Dk(1, 0), Dk(0, 0);
+    Y.middleRows<2>(k) = (inv / det) * rhs.middleRows<2>(k);
+  }
+  // Schur complement S = m I - C D^-1 C^T, S u = r1 - C D^-1 r2, then w = D^-1 (r2 - C^T u).
+  const Eigen::Matrix<double, 2, 5> C = Mp.block<2, 5>(0, 2);
+  Eigen::Matrix2d S = Mp.topLeftCorner<2, 2>() - C * Y.leftCols<2>();
+  const Vec2 b = r.head<2>() - C * Y.col(2);
+  const double det = S(0, 0) * S(1, 1) - S(0, 1) * S(1, 0);
+  if (!(det > 0.0 && S(0, 0) > 0.0)) return false;
+  const Vec2 u((S(1, 1) * b[0] - S(0, 1) * b[1]) / det, (S(0, 0) * b[1] - S(1, 0) * b[0]) / det);
+  x->head<2>() = u;
+  x->tail<5>() = Y.col(2) - Y.leftCols<2>() * u;
+  return true;
+}
+
+// M = B^T Mp B (+ rotor inertia) and h = B^T hp: T = Mp B by columns, then B^T T by rows.
+void FormJointSpace(const Model& model, Data* data) {
+  const Mat7& Mp = data->Mp;
+  Mat7 T;
+  T.col(kX) = Mp.col(0);
+  T.col(kY) = Mp.col(1);
+  T.col(kQ0) = -(Mp.col(2) + Mp.col(3) + Mp.col(4) + Mp.col(5) + Mp.col(6));
+  T.col(kQ11) = Mp.col(3) + Mp.col(4);
+  T.col(kQ12) = Mp.col(4);
+  T.col(kQ21) = Mp.col(5) + Mp.col(6);
+  T.col(kQ22) = Mp.col(6);
+  for (int j = 0; j < kNq; ++j) data->M.col(j) = ApplyBTranspose(T.col(j));
+  for (int j = kQ11; j <= kQ22; ++j) data->M(j, j) += model.joint_armature();
+  data->h = ApplyBTranspose(data->hp);
+}
+
+}  // namespace
+
+void ComputeDynamics(const Model& model, const Vec7& q, const Vec7& qd, Data* data) {
+  ComputeAbsoluteDynamics(model, q, qd, data);
+  FormJointSpace(model, data);
+}
+
+bool SolveForAcceleration(const Model& model, const Vec7& Q, Data* data) {
+  if (model.joint_armature() == 0.0) {
+    Vec7 pdd;
+    if (!SolveAbsolute(data->Mp, ApplyBInverseTranspose(Q) - data->hp, &pdd)) return false;
+    data->qdd = ApplyBInverse(pdd);
+    return true;
+  }
+  // Rotor inertia sits on the joint coordinates' diagonal: solve in joint space.
+  FormJointSpace(model, data);
   data->llt.compute(data->M);
   if (data->llt.info() != Eigen::Success) return false;
   data->qdd = data->llt.solve(Q - data->h);
@@ -117,8 +195,8 @@ bool SolveForAcceleration(const Vec7& Q, Data* data) {
 
 bool ForwardDynamics(const Model& model, const Vec7& q, const Vec7& qd, const Vec7& Q,
                      Data* data) {
-  ComputeDynamics(model, q, qd, data);
-  return SolveForAcceleration(Q, data);
+  ComputeAbsoluteDynamics(model, q, qd, data);
+  return SolveForAcceleration(model, Q, data);
 }
 
 void ComputeFootKinematics(const Model& model, const Vec7& q, const Vec7& qd, Data* data) {
@@ -140,6 +218,39 @@ void ComputeFootKinematics(const Model& model, const Vec7& q, const Vec7& qd, Da
     J.col(hip + 1) = d_shin;
     data->foot_vel[leg] = J * qd;
   }
+}
+
+Pose ComputePose(const Model& model, const Vec7& q, const Data& data) {
+  const ModelParams& p = model.params();
+  auto down = [&data](int k) { return Vec2(data.sin_a[k], -data.cos_a[k]); };
+  Pose pose;
+  pose.hip = Vec2(q[kX], q[kY]);
+  pose.trunk_com = pose.hip - p.trunk_com * down(kTrunk);
+  pose.trunk_top = pose.hip - p.trunk_length * down(kTrunk);
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const Vec2 e_th = down(ThighIndex(leg));
+    const Vec2 e_sh = down(ShinIndex(leg));
+    pose.thigh_com[leg] = pose.hip + p.thigh_com * e_th;
+    pose.knee[leg] = pose.hip + p.thigh_length * e_th;
+    pose.shin_com[leg] = pose.knee[leg] + p.shin_com * e_sh;
+    pose.foot[leg] = pose.knee[leg] + p.shin_length * e_sh;
+  }
+  return pose;
+}
+
+double KineticEnergy(const Model& model, const Vec7& qd, const Data& data) {
+  Vec7 pd;
+  pd << qd[kX], qd[kY], data.ad[0], data.ad[1], data.ad[2], data.ad[3], data.ad[4];
+  return 0.5 * pd.dot(data.Mp * pd) +
+         0.5 * model.joint_armature() * qd.tail<kNumJoints>().squaredNorm();
+}
+
+double PotentialEnergy(const Model& model, const Vec7& q, const Data& data) {
+  Vec2 moment = model.total_mass() * Vec2(q[kX], q[kY]);
+  for (int k = 0; k < 5; ++k) {
+    moment += model.first_moments()[k] * Vec2(data.sin_a[k], -data.cos_a[k]);
+  }
+  return -model.gravity().dot(moment);
 }
 
 Pose ComputePose(const Model& model, const Vec7& q) {

@@ -73,9 +73,11 @@ class Model {
 // Per-simulation scratch space and results of the algorithms below.
 struct Data {
   std::array<double, 5> sin_a{}, cos_a{}, ad{};  // link angles' sines, cosines, rates
+  Mat7 Mp = Mat7::Zero();                         // mass matrix in absolute coordinates p
+  Vec7 hp = Vec7::Zero();                         // nonlinear effects in absolute coordinates
   Mat7 M = Mat7::Zero();                          // mass matrix M(q)
   Vec7 h = Vec7::Zero();                          // nonlinear effects h(q, qd)
-  Eigen::LLT<Mat7> llt;                           // factorisation of M
+  Eigen::LLT<Mat7> llt;                           // factorisation of M (with rotor inertia)
   Vec7 qdd = Vec7::Zero();                        // result of ForwardDynamics
   std::array<Vec2, kNumLegs> foot_pos, foot_vel;  // results of ComputeFootKinematics
   std::array<Mat27, kNumLegs> foot_jac;
@@ -90,23 +92,32 @@ struct Pose {
 // Fills data->sin_a, cos_a and ad (the links' absolute angles' sines, cosines and rates).
 void ComputeLinkAngles(const Model& model, const Vec7& q, const Vec7& qd, Data* data);
 
-// Fills data->sin_a, cos_a, ad, M and h at (q, qd).
+// Fills data->sin_a, cos_a, ad, Mp and hp at (q, qd): everything forward dynamics needs.
+void ComputeAbsoluteDynamics(const Model& model, const Vec7& q, const Vec7& qd, Data* data);
+
+// Fills data->sin_a, cos_a, ad, Mp, hp, and the joint-space M = B^T Mp B (+ rotor inertia) and
+// h = B^T hp at (q, qd).
 void ComputeDynamics(const Model& model, const Vec7& q, const Vec7& qd, Data* data);
 
 // Fills data->foot_pos, foot_vel and foot_jac from the sines and cosines that ComputeDynamics
 // cached for the same q (call it or ComputeLinkAngles first).
 void ComputeFootKinematics(const Model& model, const Vec7& q, const Vec7& qd, Data* data);
 
-// Solves M qdd = Q - h with the M and h in data (after ComputeDynamics); false if M is not SPD.
-bool SolveForAcceleration(const Vec7& Q, Data* data);
+// Solves M qdd = Q - h into data->qdd, from the Mp and hp in data (after ComputeAbsoluteDynamics
+// or ComputeDynamics). Without rotor inertia it solves Mp pdd = B^-T Q - hp in absolute
+// coordinates, where Mp = [m I2, C; C^T, D] has D block-diagonal (trunk, leg 1, leg 2), through
+// the 2x2 Schur complement m I2 - C D^-1 C^T; with rotor inertia, a Cholesky factorisation of M.
+// Returns false when the matrix is not positive definite (never for a valid model, finite q).
+bool SolveForAcceleration(const Model& model, const Vec7& Q, Data* data);
 
-// qdd = M^-1 (Q - h) with Q the total generalized force; calls ComputeDynamics. Returns false
-// when M is not positive definite (never for a valid model and finite q).
+// qdd = M^-1 (Q - h) with Q the total generalized force, into data->qdd.
 bool ForwardDynamics(const Model& model, const Vec7& q, const Vec7& qd, const Vec7& Q,
                      Data* data);
 
 // Position of every point of interest at q.
 Pose ComputePose(const Model& model, const Vec7& q);
+// The same from the sines and cosines that ComputeLinkAngles cached for this q.
+Pose ComputePose(const Model& model, const Vec7& q, const Data& data);
 
 // Foot i position and velocity (world frame) and its Jacobian d(foot)/dq.
 Vec2 FootPosition(const Model& model, const Vec7& q, int leg);
@@ -119,6 +130,9 @@ Vec7 JointTorqueToGeneralized(const Vec4& tau);
 // y_b on flat ground).
 double KineticEnergy(const Model& model, const Vec7& q, const Vec7& qd);
 double PotentialEnergy(const Model& model, const Vec7& q);
+// Both from the Mp and link angles cached by ComputeAbsoluteDynamics for this (q, qd).
+double KineticEnergy(const Model& model, const Vec7& qd, const Data& data);
+double PotentialEnergy(const Model& model, const Vec7& q, const Data& data);
 // Position of the whole robot's centre of mass.
 Vec2 CenterOfMass(const Model& model, const Vec7& q);
 

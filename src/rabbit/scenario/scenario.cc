@@ -90,13 +90,15 @@ void ReadSimulation(TomlReader t, Scenario* s) {
   o.control_period = 1.0 / rate;
   const std::string integrator = t.String("integrator", IntegratorName(o.integrator.kind));
   if (!ParseIntegratorName(integrator, &o.integrator.kind)) {
-    t.Fail("integrator", "expected \"cvode\" or \"arkode\", got \"" + integrator + "\"");
+    t.Fail("integrator",
+           "expected \"cvode\", \"cvode-adams\" or \"arkode\", got \"" + integrator + "\"");
   }
   o.integrator.rtol = t.Double("rtol", o.integrator.rtol);
   o.integrator.atol = t.Double("atol", o.integrator.atol);
   o.integrator.max_step = t.Double("max_step", o.integrator.max_step);
+  o.integrator.order = static_cast<int>(t.Integer("order", o.integrator.order));
   o.contact = t.Bool("contact", o.contact);
-  o.reinit_at_samples = t.Bool("reinit_at_samples", o.reinit_at_samples);
+  o.restart_at_samples = t.Bool("restart_at_samples", o.restart_at_samples);
   o.record_every = static_cast<int>(t.Integer("record_every", o.record_every));
   if (!t.Bool("gravity", true)) s->model.gravity = 0.0;
   t.Finish();

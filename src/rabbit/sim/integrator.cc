@@ -5,6 +5,7 @@
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 #include <sunmatrix/sunmatrix_dense.h>
 
 #include <cmath>
@@ -14,12 +15,22 @@
 namespace rabbit {
 
 const char* IntegratorName(IntegratorKind kind) {
-  return kind == IntegratorKind::kCvodeBdf ? "cvode" : "arkode";
+  switch (kind) {
+    case IntegratorKind::kCvodeBdf:
+      return "cvode";
+    case IntegratorKind::kCvodeAdams:
+      return "cvode-adams";
+    case IntegratorKind::kArkodeErk:
+      return "arkode";
+  }
+  return "?";
 }
 
 bool ParseIntegratorName(const std::string& name, IntegratorKind* kind) {
   if (name == "cvode") {
     *kind = IntegratorKind::kCvodeBdf;
+  } else if (name == "cvode-adams") {
+    *kind = IntegratorKind::kCvodeAdams;
   } else if (name == "arkode") {
     *kind = IntegratorKind::kArkodeErk;
   } else {
@@ -41,6 +52,10 @@ bool IntegratorOptions::IsValid(std::string* error) const {
     *error = "max_step must be >= 0";
     return false;
   }
+  if (order < 0 || order > 12) {
+    *error = "order must be in 0..12";
+    return false;
+  }
   if (max_steps_per_call <= 0) {
     *error = "max_steps_per_call must be > 0";
     return false;
@@ -49,6 +64,8 @@ bool IntegratorOptions::IsValid(std::string* error) const {
 }
 
 namespace {
+
+constexpr int kDefaultErkOrder = 3;
 
 // Owns the SUNDIALS context and vector shared by both integrators, and adapts the callbacks.
 class SundialsBase : public OdeIntegrator {
@@ -95,6 +112,7 @@ class SundialsBase : public OdeIntegrator {
   SUNContext ctx_ = nullptr;
   N_Vector y_ = nullptr;
   long reinits_ = 0;
+  IntegratorStats before_reinit_;  // the SUNDIALS counters restart at every re-initialisation
 };
 
 class CvodeIntegrator final : public SundialsBase {
@@ -103,15 +121,22 @@ class CvodeIntegrator final : public SundialsBase {
                   void* user, double t0, const double* y0)
       : SundialsBase(n, num_roots, rhs, roots, user) {
     LoadY(y0);
-    mem_ = CVodeCreate(CV_BDF, ctx_);
+    const bool bdf = o.kind == IntegratorKind::kCvodeBdf;
+    mem_ = CVodeCreate(bdf ? CV_BDF : CV_ADAMS, ctx_);
     if (mem_ == nullptr) throw std::runtime_error("CVodeCreate failed");
     Check(CVodeSetErrHandlerFn(mem_, ErrorHandler, this), "CVodeSetErrHandlerFn");
     Check(CVodeInit(mem_, Rhs, t0, y_), "CVodeInit");
     Check(CVodeSetUserData(mem_, this), "CVodeSetUserData");
     Check(CVodeSStolerances(mem_, o.rtol, o.atol), "CVodeSStolerances");
-    A_ = SUNDenseMatrix(n, n, ctx_);
-    ls_ = SUNLinSol_Dense(y_, A_, ctx_);
-    Check(CVodeSetLinearSolver(mem_, ls_, A_), "CVodeSetLinearSolver");
+    if (o.order > 0) Check(CVodeSetMaxOrd(mem_, o.order), "CVodeSetMaxOrd");
+    if (bdf) {
+      A_ = SUNDenseMatrix(n, n, ctx_);
+      ls_ = SUNLinSol_Dense(y_, A_, ctx_);
+      Check(CVodeSetLinearSolver(mem_, ls_, A_), "CVodeSetLinearSolver");
+    } else {
+      nls_ = SUNNonlinSol_FixedPoint(y_, 0, ctx_);
+      Check(CVodeSetNonlinearSolver(mem_, nls_), "CVodeSetNonlinearSolver");
+    }
     Check(CVodeSetMaxNumSteps(mem_, o.max_steps_per_call), "CVodeSetMaxNumSteps");
     if (o.max_step > 0.0) Check(CVodeSetMaxStep(mem_, o.max_step), "CVodeSetMaxStep");
     if (num_roots > 0) {
@@ -123,8 +148,9 @@ class CvodeIntegrator final : public SundialsBase {
   }
   ~CvodeIntegrator() override {
     CVodeFree(&mem_);
-    SUNLinSolFree(ls_);
-    SUNMatDestroy(A_);
+    if (ls_ != nullptr) SUNLinSolFree(ls_);
+    if (A_ != nullptr) SUNMatDestroy(A_);
+    if (nls_ != nullptr) SUNNonlinSolFree(nls_);
   }
 
   Status Advance(double t_stop, double* t, double* y) override {
@@ -141,18 +167,25 @@ class CvodeIntegrator final : public SundialsBase {
     CVodeGetRootInfo(mem_, fired->data());
   }
   void Reinit(double t, const double* y) override {
+    before_reinit_ = Stats();
     LoadY(y);
     CVodeReInit(mem_, t, y_);
     ++reinits_;
   }
+  void Restart(double t, const double* y) override {
+    // CVODE's multistep history holds derivatives of the old right-hand side: re-initialise.
+    Reinit(t, y);
+  }
   IntegratorStats Stats() const override {
-    IntegratorStats s;
-    CVodeGetNumSteps(mem_, &s.steps);
-    long nfe = 0, nfe_ls = 0;
+    IntegratorStats s = before_reinit_;
+    long steps = 0, nfe = 0, nfe_ls = 0, nge = 0;
+    CVodeGetNumSteps(mem_, &steps);
     CVodeGetNumRhsEvals(mem_, &nfe);
     CVodeGetNumLinRhsEvals(mem_, &nfe_ls);
-    s.rhs_evals = nfe + nfe_ls;
-    CVodeGetNumGEvals(mem_, &s.root_evals);
+    CVodeGetNumGEvals(mem_, &nge);
+    s.steps += steps;
+    s.rhs_evals += nfe + nfe_ls;
+    s.root_evals += nge;
     s.reinits = reinits_;
     return s;
   }
@@ -161,6 +194,7 @@ class CvodeIntegrator final : public SundialsBase {
   void* mem_ = nullptr;
   SUNMatrix A_ = nullptr;
   SUNLinearSolver ls_ = nullptr;
+  SUNNonlinearSolver nls_ = nullptr;
 };
 
 class ArkodeErkIntegrator final : public SundialsBase {
@@ -174,7 +208,7 @@ class ArkodeErkIntegrator final : public SundialsBase {
     Check(ERKStepSetErrHandlerFn(mem_, ErrorHandler, this), "ERKStepSetErrHandlerFn");
     Check(ERKStepSetUserData(mem_, this), "ERKStepSetUserData");
     Check(ERKStepSStolerances(mem_, o.rtol, o.atol), "ERKStepSStolerances");
-    Check(ERKStepSetTableNum(mem_, ARKODE_DORMAND_PRINCE_7_4_5), "ERKStepSetTableNum");
+    Check(ERKStepSetOrder(mem_, o.order > 0 ? o.order : kDefaultErkOrder), "ERKStepSetOrder");
     Check(ERKStepSetMaxNumSteps(mem_, o.max_steps_per_call), "ERKStepSetMaxNumSteps");
     if (o.max_step > 0.0) Check(ERKStepSetMaxStep(mem_, o.max_step), "ERKStepSetMaxStep");
     if (num_roots > 0) {
@@ -200,21 +234,34 @@ class ArkodeErkIntegrator final : public SundialsBase {
     ERKStepGetRootInfo(mem_, fired->data());
   }
   void Reinit(double t, const double* y) override {
+    before_reinit_ = Stats();
     LoadY(y);
     ERKStepReInit(mem_, Rhs, t, y_);
     ++reinits_;
   }
+  void Restart(double t, const double* y) override {
+    // A one-step method: only the stored first stage f(t, y) is stale; ERKStepReset drops it and
+    // keeps the step-size history.
+    LoadY(y);
+    ERKStepReset(mem_, t, y_);
+    ++restarts_;
+  }
   IntegratorStats Stats() const override {
-    IntegratorStats s;
-    ERKStepGetNumSteps(mem_, &s.steps);
-    ERKStepGetNumRhsEvals(mem_, &s.rhs_evals);
-    ERKStepGetNumGEvals(mem_, &s.root_evals);
-    s.reinits = reinits_;
+    IntegratorStats s = before_reinit_;
+    long steps = 0, nfe = 0, nge = 0;
+    ERKStepGetNumSteps(mem_, &steps);
+    ERKStepGetNumRhsEvals(mem_, &nfe);
+    ERKStepGetNumGEvals(mem_, &nge);
+    s.steps += steps;
+    s.rhs_evals += nfe;
+    s.root_evals += nge;
+    s.reinits = reinits_ + restarts_;
     return s;
   }
 
  private:
   void* mem_ = nullptr;
+  long restarts_ = 0;
 };
 
 }  // namespace
@@ -223,7 +270,7 @@ std::unique_ptr<OdeIntegrator> OdeIntegrator::Create(const IntegratorOptions& op
                                                      int num_roots, OdeRhsFn rhs,
                                                      OdeRootFn roots, void* user, double t0,
                                                      const double* y0) {
-  if (options.kind == IntegratorKind::kCvodeBdf) {
+  if (options.kind != IntegratorKind::kArkodeErk) {
     return std::make_unique<CvodeIntegrator>(options, n, num_roots, rhs, roots, user, t0, y0);
   }
   return std::make_unique<ArkodeErkIntegrator>(options, n, num_roots, rhs, roots, user, t0, y0);

@@ -1,7 +1,11 @@
 // A thin wrapper over the two SUNDIALS integrators the simulator can use, with root finding:
-//   kCvodeBdf  CVODE, variable-order BDF with Newton iterations and a dense direct linear solver
-//              (difference-quotient Jacobian);
-//   kArkodeErk ARKODE ERKStep, adaptive explicit Runge-Kutta (default table: Dormand-Prince 5(4)).
+//   kCvodeBdf    CVODE, variable-order BDF with Newton iterations and a dense direct linear solver
+//                (difference-quotient Jacobian): for stiff settings (very stiff contact);
+//   kCvodeAdams  CVODE, variable-order Adams-Moulton with fixed-point iterations (no Jacobian, no
+//                linear solver);
+//   kArkodeErk   ARKODE ERKStep, adaptive explicit Runge-Kutta of the given order (ARKODE's
+//                default table for it: 2 Heun-Euler, 3 Bogacki-Shampine, 4 Zonneveld,
+//                5 Cash-Karp, ...).
 // Guards are oriented so that every event is a guard turning from positive to negative.
 #ifndef RABBIT_SIM_INTEGRATOR_H_
 #define RABBIT_SIM_INTEGRATOR_H_
@@ -12,9 +16,9 @@
 
 namespace rabbit {
 
-enum class IntegratorKind { kCvodeBdf, kArkodeErk };
+enum class IntegratorKind { kCvodeBdf, kCvodeAdams, kArkodeErk };
 const char* IntegratorName(IntegratorKind kind);
-// Parses "cvode" or "arkode"; returns false for anything else.
+// Parses "cvode", "cvode-adams" or "arkode"; returns false for anything else.
 bool ParseIntegratorName(const std::string& name, IntegratorKind* kind);
 
 struct IntegratorOptions {
@@ -23,6 +27,9 @@ struct IntegratorOptions {
   double atol = 1e-8;
   double max_step = 0.0;           // s; 0 = no limit
   long max_steps_per_call = 20000;  // internal steps allowed between two stops
+  // ARKODE: the method's order (2..8). CVODE: the maximum order (BDF 1..5, Adams 1..12). 0 = the
+  // default (ARKODE 3, CVODE its own maximum).
+  int order = 0;
   bool IsValid(std::string* error) const;
 };
 
@@ -50,6 +57,9 @@ class OdeIntegrator {
   virtual void RootsFound(std::vector<int>* fired) = 0;
   // Restart from (t, y), e.g. after a discrete state changed at an event.
   virtual void Reinit(double t, const double* y) = 0;
+  // Continue from (t, y) with a right-hand side that changed there (the zero-order-hold torques
+  // at a control sample): no information from before t is reused, but the step size is kept.
+  virtual void Restart(double t, const double* y) = 0;
   virtual IntegratorStats Stats() const = 0;
   const std::string& error() const { return error_; }
 

@@ -63,7 +63,7 @@ int Rhs(double /*t*/, const double* y, double* ydot, void* user) {
   const Model& model = *c->setup->model;
   const Vec7 q = Eigen::Map<const Vec7>(y);
   const Vec7 qd = Eigen::Map<const Vec7>(y + kNq);
-  ComputeDynamics(model, q, qd, &c->data);
+  ComputeAbsoluteDynamics(model, q, qd, &c->data);
   Vec7 Q = JointTorqueToGeneralized(c->tau);
   if (c->setup->options.contact) {
     ComputeFootKinematics(model, q, qd, &c->data);
@@ -74,7 +74,7 @@ int Rhs(double /*t*/, const double* y, double* ydot, void* user) {
       Q.noalias() += c->data.foot_jac[leg].transpose() * Vec2(f.ft, f.fn);
     }
   }
-  if (!SolveForAcceleration(Q, &c->data)) return 1;
+  if (!SolveForAcceleration(model, Q, &c->data)) return 1;
   Eigen::Map<Vec7> ydot_q(ydot), ydot_qd(ydot + kNq);
   ydot_q = qd;
   ydot_qd = c->data.qdd;
@@ -111,13 +111,12 @@ std::string Describe(const char* what, double t) {
 }
 
 // Ends the run when the state is not finite, the robot fell, or a link entered an obstacle.
-bool CheckState(const SimSetup& setup, const SimSample& s, SimResult* result) {
+bool CheckState(const SimSetup& setup, const SimSample& s, const Pose& pose, SimResult* result) {
   if (!s.q.allFinite() || !s.qd.allFinite()) {
     result->outcome = Outcome::kDiverged;
     result->reason = Describe("state became non-finite", s.t);
     return false;
   }
-  const Pose pose = ComputePose(*setup.model, s.q);
   const Terrain& terrain = setup.terrain;
   if (setup.options.contact) {
     for (int leg = 0; leg < kNumLegs; ++leg) {
@@ -240,7 +239,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
     obs.q = s.q;
     obs.qd = s.qd;
     obs.terrain = &terrain;
-    ComputeDynamics(model, s.q, s.qd, &sample_data);
+    ComputeAbsoluteDynamics(model, s.q, s.qd, &sample_data);
     ComputeFootKinematics(model, s.q, s.qd, &sample_data);
     s.elastic = 0.0;
     for (int leg = 0; leg < kNumLegs; ++leg) {
@@ -255,16 +254,19 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       obs.foot_force[leg] = s.foot_force[leg];
       obs.foot_contact[leg] = s.foot_force[leg].fn > 0.0;
     }
-    s.kinetic = 0.5 * s.qd.dot(sample_data.M * s.qd);
-    s.potential = PotentialEnergy(model, s.q);
+    s.kinetic = KineticEnergy(model, s.qd, sample_data);
+    s.potential = PotentialEnergy(model, s.q, sample_data);
 
-    const bool alive = CheckState(setup, s, &result);
+    const bool alive = CheckState(setup, s, ComputePose(model, s.q, sample_data), &result);
     if (alive && controller != nullptr) s.tau_cmd = controller->Compute(obs);
     for (int j = 0; j < kNumJoints; ++j) {
       SaturationRegion region;
       s.tau[j] = SaturateTorque(setup.actuator, s.tau_cmd[j], s.qd[3 + j], &region);
       if (region != SaturationRegion::kNone) ++result.saturated_periods[j];
     }
+    // New torques are a jump in the right-hand side: restart the integrator there (see
+    // SimOptions::restart_at_samples). Unchanged torques (e.g. a passive robot) need nothing.
+    if (opt.restart_at_samples && k > 0 && s.tau != ctx.tau) integrator->Restart(s.t, y);
     ctx.tau = s.tau;
     result.t_end = s.t;
     if (opt.record_every > 0 && (k % opt.record_every == 0 || !alive || k == num_periods)) {
@@ -323,13 +325,12 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
         changed = true;
         ok = ApplyTransitions(setup, leg, due, t_next, &ctx, &result);
       }
-      if (ok && changed && !opt.reinit_at_samples) integrator->Reinit(t_next, y);
+      if (ok && changed) integrator->Reinit(t_next, y);
     }
     if (!ok) {
       result.t_end = t;
       break;
     }
-    if (opt.reinit_at_samples) integrator->Reinit(t_next, y);
   }
   result.integrator = integrator->Stats();
   return result;

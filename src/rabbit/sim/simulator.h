@@ -28,7 +28,11 @@ struct SimOptions {
   double duration = 5.0;         // s
   double control_period = 1e-3;  // s (1 kHz)
   bool contact = true;           // false: no ground at all (free flight / swing studies)
-  bool reinit_at_samples = false;
+  // Restart the integrator at every control sample where the zero-order-hold torques change.
+  // Without it, the integrator reuses derivatives of the previous period's torques (ARKODE's first
+  // stage, CVODE's history): faster, but an O(h) error at every sample that tight tolerances
+  // cannot meet (measured in bench/README.md).
+  bool restart_at_samples = true;
   int max_events_per_period = 100;  // more means chattering: the run ends as diverged
   int record_every = 1;             // keep every n-th sample in the result (0 = none)
   IntegratorOptions integrator;
