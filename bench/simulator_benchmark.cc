@@ -57,7 +57,7 @@ void BM_ForwardDynamicsWithFeet(benchmark::State& state) {
     ComputeFootKinematics(model, q, qd, &data);
     Vec7 Q = Vec7::Zero();
     for (int leg = 0; leg < kNumLegs; ++leg) {
-      Q.noalias() += data.foot_jac[leg].transpose() * Vec2(10.0, 300.0);
+      AddFootForce(model, data, leg, Vec2(10.0, 300.0), &Q);
     }
     SolveForAcceleration(model, Q, &data);
     benchmark::DoNotOptimize(data.qdd);

@@ -174,7 +174,10 @@ TEST(ModelTest, FootJacobianMatchesFiniteDifferences) {
         J_fd.col(k) = (FootPosition(model, q + e, leg) - FootPosition(model, q - e, leg)) / (2 * eps);
       }
       EXPECT_LE((FootJacobian(model, q, leg) - J_fd).cwiseAbs().maxCoeff(), kTolerance);
-      EXPECT_LE((data.foot_jac[leg] - J_fd).cwiseAbs().maxCoeff(), kTolerance);
+      const Vec2 F(37.0, -250.0);
+      Vec7 Q = Vec7::Zero();
+      AddFootForce(model, data, leg, F, &Q);
+      EXPECT_LE((Q - J_fd.transpose() * F).cwiseAbs().maxCoeff(), 1e-5);  // |F| ~ 250 N
       EXPECT_LE((data.foot_pos[leg] - FootPosition(model, q, leg)).norm(), 1e-14);
       EXPECT_LE((data.foot_vel[leg] - J_fd * qd).norm(), 1e-7);
       EXPECT_LE((ComputePose(model, q).foot[leg] - FootPosition(model, q, leg)).norm(), 1e-14);

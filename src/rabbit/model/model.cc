@@ -203,21 +203,29 @@ void ComputeFootKinematics(const Model& model, const Vec7& q, const Vec7& qd, Da
   const ModelParams& p = model.params();
   for (int leg = 0; leg < kNumLegs; ++leg) {
     const int th = ThighIndex(leg), sh = ShinIndex(leg);
-    const Vec2 e_th(data->sin_a[th], -data->cos_a[th]);
-    const Vec2 e_sh(data->sin_a[sh], -data->cos_a[sh]);
-    const Vec2 d_thigh = p.thigh_length * Vec2(data->cos_a[th], data->sin_a[th]);
-    const Vec2 d_shin = p.shin_length * Vec2(data->cos_a[sh], data->sin_a[sh]);
-    data->foot_pos[leg] = Vec2(q[kX], q[kY]) + p.thigh_length * e_th + p.shin_length * e_sh;
-    Mat27& J = data->foot_jac[leg];
-    J.setZero();
-    J(0, kX) = 1.0;
-    J(1, kY) = 1.0;
-    J.col(kQ0) = -(d_thigh + d_shin);
-    const int hip = leg == 0 ? kQ11 : kQ21;
-    J.col(hip) = d_thigh + d_shin;
-    J.col(hip + 1) = d_shin;
-    data->foot_vel[leg] = J * qd;
+    const double lt = p.thigh_length, ls = p.shin_length;
+    data->foot_pos[leg] = Vec2(q[kX] + lt * data->sin_a[th] + ls * data->sin_a[sh],
+                               q[kY] - lt * data->cos_a[th] - ls * data->cos_a[sh]);
+    // d/dt of e(a) = (sin a, -cos a) is ad (cos a, sin a).
+    const double wt = lt * data->ad[th], ws = ls * data->ad[sh];
+    data->foot_vel[leg] = Vec2(qd[kX] + wt * data->cos_a[th] + ws * data->cos_a[sh],
+                               qd[kY] + wt * data->sin_a[th] + ws * data->sin_a[sh]);
   }
+}
+
+void AddFootForce(const Model& model, const Data& data, int leg, const Vec2& F, Vec7* Q) {
+  const ModelParams& p = model.params();
+  const int th = ThighIndex(leg), sh = ShinIndex(leg);
+  // Generalized force on the thigh and shin angles: L e'(a) . F, with e'(a) = (cos a, sin a);
+  // then B^T maps absolute to joint coordinates (see model.h).
+  const double f_th = p.thigh_length * (data.cos_a[th] * F.x() + data.sin_a[th] * F.y());
+  const double f_sh = p.shin_length * (data.cos_a[sh] * F.x() + data.sin_a[sh] * F.y());
+  const int hip = leg == 0 ? kQ11 : kQ21;
+  (*Q)[kX] += F.x();
+  (*Q)[kY] += F.y();
+  (*Q)[kQ0] -= f_th + f_sh;
+  (*Q)[hip] += f_th + f_sh;
+  (*Q)[hip + 1] += f_sh;
 }
 
 Pose ComputePose(const Model& model, const Vec7& q, const Data& data) {

@@ -80,7 +80,6 @@ struct Data {
   Eigen::LLT<Mat7> llt;                           // factorisation of M (with rotor inertia)
   Vec7 qdd = Vec7::Zero();                        // result of ForwardDynamics
   std::array<Vec2, kNumLegs> foot_pos, foot_vel;  // results of ComputeFootKinematics
-  std::array<Mat27, kNumLegs> foot_jac;
 };
 
 // Planar positions of the robot's points, for contact, checks and drawing.
@@ -99,9 +98,13 @@ void ComputeAbsoluteDynamics(const Model& model, const Vec7& q, const Vec7& qd, 
 // h = B^T hp at (q, qd).
 void ComputeDynamics(const Model& model, const Vec7& q, const Vec7& qd, Data* data);
 
-// Fills data->foot_pos, foot_vel and foot_jac from the sines and cosines that ComputeDynamics
-// cached for the same q (call it or ComputeLinkAngles first).
+// Fills data->foot_pos and foot_vel from the sines, cosines and rates that ComputeLinkAngles (or
+// ComputeDynamics) cached for the same (q, qd).
 void ComputeFootKinematics(const Model& model, const Vec7& q, const Vec7& qd, Data* data);
+
+// Q += J_f^T F for a force F (world frame) on foot `leg`, from the cached link angles, without
+// forming the Jacobian.
+void AddFootForce(const Model& model, const Data& data, int leg, const Vec2& F, Vec7* Q);
 
 // Solves M qdd = Q - h into data->qdd, from the Mp and hp in data (after ComputeAbsoluteDynamics
 // or ComputeDynamics). Without rotor inertia it solves Mp pdd = B^-T Q - hp in absolute

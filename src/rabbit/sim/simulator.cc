@@ -71,7 +71,7 @@ int Rhs(double /*t*/, const double* y, double* ydot, void* user) {
       if (c->feet[leg].mode == ContactMode::kAir) continue;
       const FootForce f = ComputeFootForce(c->setup->contact, c->setup->terrain, c->feet[leg],
                                            c->data.foot_pos[leg], c->data.foot_vel[leg]);
-      Q.noalias() += c->data.foot_jac[leg].transpose() * Vec2(f.ft, f.fn);
+      AddFootForce(model, c->data, leg, Vec2(f.ft, f.fn), &Q);
     }
   }
   if (!SolveForAcceleration(model, Q, &c->data)) return 1;
@@ -154,12 +154,10 @@ struct FootTriggers {
   bool any() const { return touch || friction || span; }
 };
 
-// Applies one foot's due transitions at time t, with its position and velocity in ctx->data, and
-// records every mode change. Returns false when the foot entered an obstacle through its side.
+// Applies one foot's due transitions at time t, where it is at pos with velocity vel, and records
+// every mode change. Returns false when the foot entered an obstacle through its side.
 bool ApplyTransitions(const SimSetup& setup, int leg, const FootTriggers& due, double t,
-                      RunContext* ctx, SimResult* result) {
-  const Vec2 pos = ctx->data.foot_pos[leg];
-  const Vec2 vel = ctx->data.foot_vel[leg];
+                      const Vec2& pos, const Vec2& vel, RunContext* ctx, SimResult* result) {
   FootContactState& foot = ctx->feet[leg];
   if (due.span && !UpdateFootSurface(setup.terrain, pos, &foot)) {
     result->outcome = Outcome::kTripped;
@@ -183,10 +181,8 @@ bool ApplyTransitions(const SimSetup& setup, int leg, const FootTriggers& due, d
 // zero, so a foot placed exactly at the cone's edge, or released exactly on the ground, could
 // miss its first transition. Checked once per control period: a missed event is caught within
 // one period. (The resume guard starts negative by design and is not checked.)
-FootTriggers ViolatedGuards(const SimSetup& setup, const RunContext& ctx, int leg) {
-  const Vec2& pos = ctx.data.foot_pos[leg];
-  const Vec2& vel = ctx.data.foot_vel[leg];
-  const FootContactState& foot = ctx.feet[leg];
+FootTriggers ViolatedGuards(const SimSetup& setup, const FootContactState& foot, const Vec2& pos,
+                            const Vec2& vel) {
   FootTriggers due;
   due.span = setup.terrain.SurfaceAt(pos.x()) != foot.surface;
   due.touch = TouchGuard(setup.terrain, foot, pos) < 0.0;
@@ -241,6 +237,20 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
     obs.terrain = &terrain;
     ComputeAbsoluteDynamics(model, s.q, s.qd, &sample_data);
     ComputeFootKinematics(model, s.q, s.qd, &sample_data);
+    bool alive = true;
+    if (k > 0 && opt.contact) {
+      // Catch a transition the root finding could not see (see ViolatedGuards).
+      bool changed = false;
+      for (int leg = 0; leg < kNumLegs && alive; ++leg) {
+        const Vec2& pos = sample_data.foot_pos[leg];
+        const Vec2& vel = sample_data.foot_vel[leg];
+        const FootTriggers due = ViolatedGuards(setup, ctx.feet[leg], pos, vel);
+        if (!due.any()) continue;
+        changed = true;
+        alive = ApplyTransitions(setup, leg, due, s.t, pos, vel, &ctx, &result);
+      }
+      if (alive && changed) integrator->Reinit(s.t, y);
+    }
     s.elastic = 0.0;
     for (int leg = 0; leg < kNumLegs; ++leg) {
       const Vec2& pos = sample_data.foot_pos[leg];
@@ -257,7 +267,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
     s.kinetic = KineticEnergy(model, s.qd, sample_data);
     s.potential = PotentialEnergy(model, s.q, sample_data);
 
-    const bool alive = CheckState(setup, s, ComputePose(model, s.q, sample_data), &result);
+    alive = alive && CheckState(setup, s, ComputePose(model, s.q, sample_data), &result);
     if (alive && controller != nullptr) s.tau_cmd = controller->Compute(obs);
     for (int j = 0; j < kNumJoints; ++j) {
       SaturationRegion region;
@@ -308,24 +318,10 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
         for (int j = 0; j < ctx.num_obstacles; ++j) {
           due.span |= fired[kFootGuards * kNumLegs + leg * ctx.num_obstacles + j] != 0;
         }
-        ok = ApplyTransitions(setup, leg, due, t, &ctx, &result);
+        ok = ApplyTransitions(setup, leg, due, t, ctx.data.foot_pos[leg], ctx.data.foot_vel[leg],
+                              &ctx, &result);
       }
       if (ok) integrator->Reinit(t, y);
-    }
-    if (ok && opt.contact) {
-      // Catch a transition the root finding could not see (see ViolatedGuards).
-      const Vec7 q = Eigen::Map<const Vec7>(y);
-      const Vec7 qd = Eigen::Map<const Vec7>(y + kNq);
-      ComputeLinkAngles(model, q, qd, &ctx.data);
-      ComputeFootKinematics(model, q, qd, &ctx.data);
-      bool changed = false;
-      for (int leg = 0; leg < kNumLegs && ok; ++leg) {
-        const FootTriggers due = ViolatedGuards(setup, ctx, leg);
-        if (!due.any()) continue;
-        changed = true;
-        ok = ApplyTransitions(setup, leg, due, t_next, &ctx, &result);
-      }
-      if (ok && changed) integrator->Reinit(t_next, y);
     }
     if (!ok) {
       result.t_end = t;
