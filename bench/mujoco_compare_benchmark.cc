@@ -10,6 +10,13 @@
 //               (energy_drift_end), E sampled every 1 ms: ours from SimResult via TotalEnergy,
 //               MuJoCo's from mj_energyPos + mj_energyVel (computed in an untimed pass, so the
 //               timed loop is plain mj_step); q_end_vs_rabbit = max |q_MuJoCo(5 s) - q_ours(5 s)|;
+//   PassiveFall/*
+//               torque-free collapse from a leaning standing pose (scenarios/passive_fall.toml):
+//               our Simulate, which ends when the robot falls (SimResult::t_end), versus MuJoCo
+//               with the ground plane of Standing/* (Euler and RK4, timestep 1 ms, zero torques)
+//               from the same initial state for the same simulated time (our t_end, computed once
+//               in an untimed run); hip_y_end_mm = hip height at the end, to see that both fell
+//               alike, and t_end_s = the simulated time of the run;
 //   Dynamics/*  one ComputeDynamics (M and h) versus MuJoCo's M and qfrc_bias (kinematics, crb,
 //               rne), and one ForwardDynamics versus one mj_forward, on the contact-free model at
 //               a random state.
@@ -254,6 +261,80 @@ void BM_Swing_MuJoCo(benchmark::State& state, const std::string& integrator) {
 }
 
 // ---------------------------------------------------------------------------------------------
+// Passive fall, until our run detects the fall.
+
+void BM_PassiveFall_Rabbit(benchmark::State& state) {
+  const Scenario scenario = LoadShippedScenario("passive_fall.toml");
+  const Model model(scenario.model);
+  const SimSetup setup = MakeSetup(scenario, &model);
+  double wall = 0.0, simulated = 0.0;
+  SimResult result;
+  for (auto _ : state) {
+    std::unique_ptr<Controller> controller = MakeController(scenario);
+    const Clock::time_point start = Clock::now();
+    result = Simulate(setup, scenario.q0, scenario.qd0, controller.get());
+    wall += Seconds(Clock::now() - start);
+    simulated += result.t_end;
+    if (result.outcome != Outcome::kFell) {
+      state.SkipWithError((std::string("run did not fall: ") + OutcomeName(result.outcome) + " " +
+                           result.reason)
+                              .c_str());
+      break;
+    }
+  }
+  if (result.samples.empty()) return;
+  state.counters["rtf"] = simulated / wall;
+  state.counters["hip_y_end_mm"] = 1e3 * result.samples.back().q[kY];
+  state.counters["t_end_s"] = result.t_end;
+  state.counters["steps_per_s"] = static_cast<double>(result.integrator.steps) / result.t_end;
+}
+
+// Our passive fall, run once untimed: its t_end is how long the MuJoCo runs simulate.
+const SimResult& PassiveFallReference() {
+  static const SimResult result = [] {
+    const Scenario scenario = LoadShippedScenario("passive_fall.toml");
+    const Model model(scenario.model);
+    const SimSetup setup = MakeSetup(scenario, &model);
+    std::unique_ptr<Controller> controller = MakeController(scenario);
+    return Simulate(setup, scenario.q0, scenario.qd0, controller.get());
+  }();
+  return result;
+}
+
+void BM_PassiveFall_MuJoCo(benchmark::State& state, const std::string& integrator) {
+  const Scenario scenario = LoadShippedScenario("passive_fall.toml");
+  const SimResult& ours = PassiveFallReference();
+  if (ours.outcome != Outcome::kFell) {
+    state.SkipWithError((std::string("our run did not fall: ") + OutcomeName(ours.outcome) + " " +
+                         ours.reason)
+                            .c_str());
+    return;
+  }
+  MujocoModelOptions options;
+  options.ground = true;
+  options.integrator = integrator;
+  options.timestep = 1e-3;
+  options.energy = false;
+  ModelPtr m = LoadMujoco(scenario.model, options);
+  DataPtr d(mj_makeData(m.get()));
+  const int steps = static_cast<int>(std::lround(ours.t_end / m->opt.timestep));
+  double wall = 0.0, simulated = 0.0;
+  for (auto _ : state) {
+    mj_resetData(m.get(), d.get());
+    mujoco_ref::SetMujocoState(m.get(), d.get(), scenario.q0, scenario.qd0);  // zero torques
+    const Clock::time_point start = Clock::now();
+    for (int k = 0; k < steps; ++k) mj_step(m.get(), d.get());
+    wall += Seconds(Clock::now() - start);
+    simulated += d->time;
+    benchmark::DoNotOptimize(d->qpos[0]);
+  }
+  state.counters["rtf"] = simulated / wall;
+  state.counters["hip_y_end_mm"] = 1e3 * d->qpos[kY];
+  state.counters["t_end_s"] = d->time;
+  state.counters["steps_per_s"] = 1.0 / m->opt.timestep;
+}
+
+// ---------------------------------------------------------------------------------------------
 // One evaluation of the dynamics at a random state.
 
 struct RandomState {
@@ -349,6 +430,13 @@ BENCHMARK_CAPTURE(BM_Swing_MuJoCo, RK4, std::string("RK4"))
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK_CAPTURE(BM_Swing_MuJoCo, Euler, std::string("Euler"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK(BM_PassiveFall_Rabbit)->Unit(benchmark::kMillisecond)->UseRealTime();
+BENCHMARK_CAPTURE(BM_PassiveFall_MuJoCo, Euler, std::string("Euler"))
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
+BENCHMARK_CAPTURE(BM_PassiveFall_MuJoCo, RK4, std::string("RK4"))
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 BENCHMARK(BM_Dynamics_Rabbit_ComputeDynamics);

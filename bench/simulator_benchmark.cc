@@ -94,7 +94,7 @@ void RunScenario(benchmark::State& state, const char* file, IntegratorKind kind)
   setup.options = scenario.options;
   setup.options.integrator.kind = kind;
   double simulated = 0.0;
-  long periods = 0, steps = 0, rhs = 0;
+  long periods = 0, steps = 0, rhs = 0, roots = 0;
   for (auto _ : state) {
     auto controller = MakeController(scenario);
     const SimResult r = Simulate(setup, scenario.q0, scenario.qd0, controller.get());
@@ -102,6 +102,7 @@ void RunScenario(benchmark::State& state, const char* file, IntegratorKind kind)
     periods += r.num_periods;
     steps += r.integrator.steps;
     rhs += r.integrator.rhs_evals;
+    roots += r.integrator.root_evals;
   }
   state.counters["rtf"] = benchmark::Counter(simulated, benchmark::Counter::kIsRate);
   state.counters["us_per_period"] =
@@ -109,6 +110,7 @@ void RunScenario(benchmark::State& state, const char* file, IntegratorKind kind)
                          benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["steps_per_period"] = static_cast<double>(steps) / static_cast<double>(periods);
   state.counters["rhs_per_period"] = static_cast<double>(rhs) / static_cast<double>(periods);
+  state.counters["roots_per_period"] = static_cast<double>(roots) / static_cast<double>(periods);
 }
 
 void BM_Standing10s(benchmark::State& state) {

@@ -58,13 +58,13 @@ Model::Model(const ModelParams& params) : params_(params) {
   b_(5, kQ21) = b_(6, kQ21) = b_(6, kQ22) = 1.0;
 }
 
-void ComputeLinkAngles(const Model& model, const Vec7& q, const Vec7& qd, Data* data) {
+void ComputeLinkAngles(const Model& /*model*/, const Vec7& q, const Vec7& qd, Data* data) {
   const std::array<double, 5> a = LinkAngles(q);
-  const Vec7 pd = model.B() * qd;
+  const std::array<double, 5> ad = LinkAngles(qd);  // the same linear map
   for (int k = 0; k < 5; ++k) {
     data->sin_a[k] = std::sin(a[k]);
     data->cos_a[k] = std::cos(a[k]);
-    data->ad[k] = pd[2 + k];
+    data->ad[k] = ad[k];
   }
 }
 
