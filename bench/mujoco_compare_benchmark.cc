@@ -276,9 +276,9 @@ void BM_PassiveFall_Rabbit(benchmark::State& state) {
     wall += Seconds(Clock::now() - start);
     simulated += result.t_end;
     if (result.outcome != Outcome::kFell) {
-      state.SkipWithError((std::string("run did not fall: ") + OutcomeName(result.outcome) + " " +
-                           result.reason)
-                              .c_str());
+      const std::string error =
+          std::string("run did not fall: ") + OutcomeName(result.outcome) + " " + result.reason;
+      state.SkipWithError(error.c_str());
       break;
     }
   }
@@ -305,9 +305,9 @@ void BM_PassiveFall_MuJoCo(benchmark::State& state, const std::string& integrato
   const Scenario scenario = LoadShippedScenario("passive_fall.toml");
   const SimResult& ours = PassiveFallReference();
   if (ours.outcome != Outcome::kFell) {
-    state.SkipWithError((std::string("our run did not fall: ") + OutcomeName(ours.outcome) + " " +
-                         ours.reason)
-                            .c_str());
+    const std::string error =
+        std::string("our run did not fall: ") + OutcomeName(ours.outcome) + " " + ours.reason;
+    state.SkipWithError(error.c_str());
     return;
   }
   MujocoModelOptions options;

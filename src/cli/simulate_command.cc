@@ -23,10 +23,8 @@ struct SimulateArgs {
 
 int RunSimulate(const SimulateArgs& args) {
   Scenario scenario = LoadScenario(args.scenario);
-  if (!args.integrator.empty() &&
-      !ParseIntegratorName(args.integrator, &scenario.options.integrator.kind)) {
-    std::cerr << "rabbit simulate: --integrator must be cvode or arkode\n";
-    return 2;
+  if (!args.integrator.empty()) {
+    ParseIntegratorName(args.integrator, &scenario.options.integrator.kind);  // checked by CLI11
   }
   const Model model(scenario.model);
   SimSetup setup;
@@ -78,7 +76,8 @@ Command RegisterSimulate(CLI::App* app) {
   cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
   cmd->add_option("--out,-o", args->out,
                   "Output CSV (default: reports/<scenario name>/trajectory.csv)");
-  cmd->add_option("--integrator", args->integrator, "Override the integrator: cvode or arkode");
+  cmd->add_option("--integrator", args->integrator, "Override the scenario's integrator")
+      ->check(CLI::IsMember({"arkode", "cvode", "cvode-adams"}));
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but errors");
   return {cmd, [args] { return RunSimulate(*args); }};
 }
