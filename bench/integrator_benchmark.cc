@@ -50,7 +50,7 @@ const Loaded& Load(int index) {
   return l;
 }
 
-// Args: scenario index, integrator kind, order, -log10(rtol).
+// Args: scenario index, integrator kind, order, -log10(rtol), restart at samples (0/1).
 void BM_WorkPrecision(benchmark::State& state) {
   const Loaded& l = Load(static_cast<int>(state.range(0)));
   SimSetup setup = l.setup;
@@ -58,6 +58,7 @@ void BM_WorkPrecision(benchmark::State& state) {
   setup.options.integrator.order = static_cast<int>(state.range(2));
   setup.options.integrator.rtol = std::pow(10.0, -static_cast<double>(state.range(3)));
   setup.options.integrator.atol = setup.options.integrator.rtol * 1e-2;
+  setup.options.restart_at_samples = state.range(4) != 0;
   SimResult r;
   double simulated = 0.0;
   for (auto _ : state) {
@@ -81,14 +82,19 @@ void BM_WorkPrecision(benchmark::State& state) {
 void Arguments(benchmark::internal::Benchmark* b) {
   for (int scenario = 0; scenario < 3; ++scenario) {
     for (int digits : {4, 6, 8}) {
-      b->Args({scenario, static_cast<int>(IntegratorKind::kCvodeBdf), 0, digits});
-      b->Args({scenario, static_cast<int>(IntegratorKind::kCvodeAdams), 0, digits});
+      b->Args({scenario, static_cast<int>(IntegratorKind::kCvodeBdf), 0, digits, 1});
+      b->Args({scenario, static_cast<int>(IntegratorKind::kCvodeAdams), 0, digits, 1});
       for (int order = 2; order <= 5; ++order) {
-        b->Args({scenario, static_cast<int>(IntegratorKind::kArkodeErk), order, digits});
+        b->Args({scenario, static_cast<int>(IntegratorKind::kArkodeErk), order, digits, 1});
       }
     }
+    // Without restarts where the held torques change (SimOptions::restart_at_samples).
+    for (int digits : {6, 8}) {
+      b->Args({scenario, static_cast<int>(IntegratorKind::kCvodeBdf), 0, digits, 0});
+      b->Args({scenario, static_cast<int>(IntegratorKind::kArkodeErk), 3, digits, 0});
+    }
   }
-  b->ArgNames({"scenario", "integrator", "order", "digits"});
+  b->ArgNames({"scenario", "integrator", "order", "digits", "restart"});
 }
 BENCHMARK(BM_WorkPrecision)->Apply(Arguments)->Unit(benchmark::kMillisecond);
 

@@ -88,10 +88,12 @@ class SundialsBase : public OdeIntegrator {
  protected:
   static int Rhs(realtype t, N_Vector y, N_Vector ydot, void* self) {
     auto* s = static_cast<SundialsBase*>(self);
+    ++s->rhs_evals_;
     return s->rhs_(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), s->user_);
   }
   static int Roots(realtype t, N_Vector y, realtype* g, void* self) {
     auto* s = static_cast<SundialsBase*>(self);
+    ++s->root_evals_;
     return s->roots_(t, N_VGetArrayPointer(y), g, s->user_);
   }
   static void ErrorHandler(int code, const char* module, const char* function, char* msg,
@@ -115,7 +117,10 @@ class SundialsBase : public OdeIntegrator {
   SUNContext ctx_ = nullptr;
   N_Vector y_ = nullptr;
   long reinits_ = 0;
-  IntegratorStats before_reinit_;  // the SUNDIALS counters restart at every re-initialisation
+  long steps_before_reinit_ = 0;  // CVODE's step counter restarts at every re-initialisation
+  // Counted here rather than asked of SUNDIALS, whose counters do not all survive a restart.
+  long rhs_evals_ = 0;
+  long root_evals_ = 0;
 };
 
 class CvodeIntegrator final : public SundialsBase {
@@ -170,7 +175,7 @@ class CvodeIntegrator final : public SundialsBase {
     CVodeGetRootInfo(mem_, fired->data());
   }
   void Reinit(double t, const double* y) override {
-    before_reinit_ = Stats();
+    steps_before_reinit_ = Stats().steps;
     LoadY(y);
     CVodeReInit(mem_, t, y_);
     ++reinits_;
@@ -180,15 +185,12 @@ class CvodeIntegrator final : public SundialsBase {
     Reinit(t, y);
   }
   IntegratorStats Stats() const override {
-    IntegratorStats s = before_reinit_;
-    long steps = 0, nfe = 0, nfe_ls = 0, nge = 0;
+    IntegratorStats s;
+    long steps = 0;
     CVodeGetNumSteps(mem_, &steps);
-    CVodeGetNumRhsEvals(mem_, &nfe);
-    CVodeGetNumLinRhsEvals(mem_, &nfe_ls);
-    CVodeGetNumGEvals(mem_, &nge);
-    s.steps += steps;
-    s.rhs_evals += nfe + nfe_ls;
-    s.root_evals += nge;
+    s.steps = steps_before_reinit_ + steps;
+    s.rhs_evals = rhs_evals_;
+    s.root_evals = root_evals_;
     s.reinits = reinits_;
     return s;
   }
@@ -250,14 +252,10 @@ class ArkodeErkIntegrator final : public SundialsBase {
     ++restarts_;
   }
   IntegratorStats Stats() const override {
-    IntegratorStats s = before_reinit_;
-    long steps = 0, nfe = 0, nge = 0;
-    ERKStepGetNumSteps(mem_, &steps);
-    ERKStepGetNumRhsEvals(mem_, &nfe);
-    ERKStepGetNumGEvals(mem_, &nge);
-    s.steps += steps;
-    s.rhs_evals += nfe;
-    s.root_evals += nge;
+    IntegratorStats s;
+    ERKStepGetNumSteps(mem_, &s.steps);  // kept across ERKStepReset
+    s.rhs_evals = rhs_evals_;
+    s.root_evals = root_evals_;
     s.reinits = reinits_ + restarts_;
     return s;
   }
