@@ -34,11 +34,7 @@ const Loaded& Load(int index) {
   Loaded& l = cache[index];
   l.scenario = LoadScenario(std::string(RABBIT_SOURCE_DIR) + "/scenarios/" + kScenarios[index]);
   l.model = std::make_unique<Model>(l.scenario.model);
-  l.setup.model = l.model.get();
-  l.setup.contact = l.scenario.contact;
-  l.setup.actuator = l.scenario.actuator;
-  l.setup.terrain = l.scenario.terrain;
-  l.setup.options = l.scenario.options;
+  l.setup = MakeSimSetup(l.scenario, l.model.get());
   l.setup.options.duration = std::min(l.setup.options.duration, 2.0);
   SimSetup ref = l.setup;
   ref.options.integrator.kind = IntegratorKind::kCvodeBdf;

@@ -97,14 +97,26 @@ Drift EnergyDrift(const std::vector<double>& energy) {
   return drift;
 }
 
-SimSetup MakeSetup(const Scenario& scenario, const Model* model) {
-  SimSetup setup;
-  setup.model = model;
-  setup.contact = scenario.contact;
-  setup.actuator = scenario.actuator;
-  setup.terrain = scenario.terrain;
-  setup.options = scenario.options;
-  return setup;
+// Times our run of a scenario over the benchmark's iterations; false (with the benchmark marked
+// as failed) when a run does not end with the expected outcome. *rtf: simulated s per wall s.
+bool TimeRabbitRuns(benchmark::State& state, const Scenario& scenario, const SimSetup& setup,
+                    Outcome expected, SimResult* result, double* rtf) {
+  double wall = 0.0, simulated = 0.0;
+  for (auto _ : state) {
+    std::unique_ptr<Controller> controller = MakeController(scenario);
+    const Clock::time_point start = Clock::now();
+    *result = Simulate(setup, scenario.q0, scenario.qd0, controller.get());
+    wall += Seconds(Clock::now() - start);
+    simulated += result->t_end;
+    if (result->outcome != expected) {
+      const std::string error = std::string("run ended ") + OutcomeName(result->outcome) +
+                                " (expected " + OutcomeName(expected) + "): " + result->reason;
+      state.SkipWithError(error.c_str());
+      return false;
+    }
+  }
+  *rtf = simulated / wall;
+  return !result->samples.empty();
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -113,24 +125,13 @@ SimSetup MakeSetup(const Scenario& scenario, const Model* model) {
 void BM_Standing_Rabbit(benchmark::State& state) {
   const Scenario scenario = LoadShippedScenario("standing_pd_hold.toml");
   const Model model(scenario.model);
-  const SimSetup setup = MakeSetup(scenario, &model);
-  double wall = 0.0, simulated = 0.0;
+  const SimSetup setup = MakeSimSetup(scenario, &model);
   SimResult result;
-  for (auto _ : state) {
-    std::unique_ptr<Controller> controller = MakeController(scenario);
-    const Clock::time_point start = Clock::now();
-    result = Simulate(setup, scenario.q0, scenario.qd0, controller.get());
-    wall += Seconds(Clock::now() - start);
-    simulated += result.t_end;
-    if (result.outcome != Outcome::kCompleted) {
-      state.SkipWithError(("run ended early: " + result.reason).c_str());
-      break;
-    }
-  }
-  if (result.samples.empty()) return;
+  double rtf = 0.0;
+  if (!TimeRabbitRuns(state, scenario, setup, Outcome::kCompleted, &result, &rtf)) return;
   const SimSample& last = result.samples.back();
   const SimSample& first = result.samples.front();
-  state.counters["rtf"] = simulated / wall;
+  state.counters["rtf"] = rtf;
   state.counters["hip_y_end_mm"] = 1e3 * last.q[kY];
   state.counters["hip_dy_mm"] = 1e3 * (last.q[kY] - first.q[kY]);
   double slip = 0.0;
@@ -188,26 +189,16 @@ void BM_Standing_MuJoCo(benchmark::State& state, const std::string& integrator,
 void BM_Swing_Rabbit(benchmark::State& state) {
   const Scenario scenario = LoadShippedScenario("swing_free.toml");
   const Model model(scenario.model);
-  const SimSetup setup = MakeSetup(scenario, &model);
-  double wall = 0.0, simulated = 0.0;
+  const SimSetup setup = MakeSimSetup(scenario, &model);
   SimResult result;
-  for (auto _ : state) {
-    std::unique_ptr<Controller> controller = MakeController(scenario);
-    const Clock::time_point start = Clock::now();
-    result = Simulate(setup, scenario.q0, scenario.qd0, controller.get());
-    wall += Seconds(Clock::now() - start);
-    simulated += result.t_end;
-    if (result.outcome != Outcome::kCompleted) {
-      state.SkipWithError(("run ended early: " + result.reason).c_str());
-      break;
-    }
-  }
+  double rtf = 0.0;
+  if (!TimeRabbitRuns(state, scenario, setup, Outcome::kCompleted, &result, &rtf)) return;
   if (result.samples.size() < 2) return;
   std::vector<double> energy;
   energy.reserve(result.samples.size());
   for (const SimSample& s : result.samples) energy.push_back(TotalEnergy(s));
   const Drift drift = EnergyDrift(energy);
-  state.counters["rtf"] = simulated / wall;
+  state.counters["rtf"] = rtf;
   state.counters["energy_drift"] = drift.max;
   state.counters["energy_drift_end"] = drift.end;
   state.counters["E0_J"] = energy.front();
@@ -235,7 +226,7 @@ void BM_Swing_MuJoCo(benchmark::State& state, const std::string& integrator) {
   const Drift drift = EnergyDrift(energy);
   // Where the trajectory ends compared with ours (SUNDIALS, rtol 1e-10).
   const Model model(scenario.model);
-  const SimSetup setup = MakeSetup(scenario, &model);
+  const SimSetup setup = MakeSimSetup(scenario, &model);
   std::unique_ptr<Controller> controller = MakeController(scenario);
   const SimResult ours = Simulate(setup, scenario.q0, scenario.qd0, controller.get());
   const double q_diff =
@@ -266,24 +257,11 @@ void BM_Swing_MuJoCo(benchmark::State& state, const std::string& integrator) {
 void BM_PassiveFall_Rabbit(benchmark::State& state) {
   const Scenario scenario = LoadShippedScenario("passive_fall.toml");
   const Model model(scenario.model);
-  const SimSetup setup = MakeSetup(scenario, &model);
-  double wall = 0.0, simulated = 0.0;
+  const SimSetup setup = MakeSimSetup(scenario, &model);
   SimResult result;
-  for (auto _ : state) {
-    std::unique_ptr<Controller> controller = MakeController(scenario);
-    const Clock::time_point start = Clock::now();
-    result = Simulate(setup, scenario.q0, scenario.qd0, controller.get());
-    wall += Seconds(Clock::now() - start);
-    simulated += result.t_end;
-    if (result.outcome != Outcome::kFell) {
-      const std::string error =
-          std::string("run did not fall: ") + OutcomeName(result.outcome) + " " + result.reason;
-      state.SkipWithError(error.c_str());
-      break;
-    }
-  }
-  if (result.samples.empty()) return;
-  state.counters["rtf"] = simulated / wall;
+  double rtf = 0.0;
+  if (!TimeRabbitRuns(state, scenario, setup, Outcome::kFell, &result, &rtf)) return;
+  state.counters["rtf"] = rtf;
   state.counters["hip_y_end_mm"] = 1e3 * result.samples.back().q[kY];
   state.counters["t_end_s"] = result.t_end;
   state.counters["steps_per_s"] = static_cast<double>(result.integrator.steps) / result.t_end;
@@ -294,7 +272,7 @@ const SimResult& PassiveFallReference() {
   static const SimResult result = [] {
     const Scenario scenario = LoadShippedScenario("passive_fall.toml");
     const Model model(scenario.model);
-    const SimSetup setup = MakeSetup(scenario, &model);
+    const SimSetup setup = MakeSimSetup(scenario, &model);
     std::unique_ptr<Controller> controller = MakeController(scenario);
     return Simulate(setup, scenario.q0, scenario.qd0, controller.get());
   }();

@@ -86,12 +86,7 @@ BENCHMARK(BM_ForwardDynamicsJointSpaceCholesky);
 void RunScenario(benchmark::State& state, const char* file, IntegratorKind kind) {
   const Scenario scenario = LoadScenario(std::string(RABBIT_SOURCE_DIR) + "/scenarios/" + file);
   const Model model(scenario.model);
-  SimSetup setup;
-  setup.model = &model;
-  setup.contact = scenario.contact;
-  setup.actuator = scenario.actuator;
-  setup.terrain = scenario.terrain;
-  setup.options = scenario.options;
+  SimSetup setup = MakeSimSetup(scenario, &model);
   setup.options.integrator.kind = kind;
   double simulated = 0.0;
   long periods = 0, steps = 0, rhs = 0, roots = 0;

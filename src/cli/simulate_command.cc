@@ -27,12 +27,7 @@ int RunSimulate(const SimulateArgs& args) {
     ParseIntegratorName(args.integrator, &scenario.options.integrator.kind);  // checked by CLI11
   }
   const Model model(scenario.model);
-  SimSetup setup;
-  setup.model = &model;
-  setup.contact = scenario.contact;
-  setup.actuator = scenario.actuator;
-  setup.terrain = scenario.terrain;
-  setup.options = scenario.options;
+  const SimSetup setup = MakeSimSetup(scenario, &model);
   std::unique_ptr<Controller> controller = MakeController(scenario);
 
   const auto start = std::chrono::steady_clock::now();

@@ -241,4 +241,14 @@ std::unique_ptr<Controller> MakeController(const Scenario& scenario) {
   return std::make_unique<PassiveController>();
 }
 
+SimSetup MakeSimSetup(const Scenario& scenario, const Model* model) {
+  SimSetup setup;
+  setup.model = model;
+  setup.contact = scenario.contact;
+  setup.actuator = scenario.actuator;
+  setup.terrain = scenario.terrain;
+  setup.options = scenario.options;
+  return setup;
+}
+
 }  // namespace rabbit

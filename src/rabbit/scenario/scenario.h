@@ -45,6 +45,10 @@ ModelParams LoadModelFile(const std::string& path);
 
 std::unique_ptr<Controller> MakeController(const Scenario& scenario);
 
+// The simulation set-up a scenario describes, on `model` (built from scenario.model; it must
+// outlive the set-up).
+SimSetup MakeSimSetup(const Scenario& scenario, const Model* model);
+
 }  // namespace rabbit
 
 #endif  // RABBIT_SCENARIO_SCENARIO_H_
