@@ -1,13 +1,13 @@
 // The rabbit CLI end to end: exit codes (0 success, 1 failed criteria, 2 bad input or usage), the
 // error message naming file and key, and the CSV it writes. Runs the built binary.
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
-#include <sys/wait.h>
 
 namespace {
 
@@ -35,8 +35,8 @@ class CliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("rabbit_cli_test_" + std::string(
-                                     ::testing::UnitTest::GetInstance()->current_test_info()->name()));
+           ("rabbit_cli_test_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
   }
@@ -106,7 +106,8 @@ q22_deg = -20
 }
 
 TEST_F(CliTest, BadInputExitsTwoNamingFileAndKeyAndWritesNothing) {
-  const std::string path = Write("bad.toml", "[simulation]\nduration = 1\nrtoll = 1e-6\n[initial]\ny = 1\n");
+  const std::string path =
+      Write("bad.toml", "[simulation]\nduration = 1\nrtoll = 1e-6\n[initial]\ny = 1\n");
   const std::string out = (dir_ / "never.csv").string();
   const CliRun run = RunCli("simulate " + path + " --out " + out);
   EXPECT_EQ(run.code, 2);

@@ -6,7 +6,6 @@
 #include <gtest/gtest.h>
 
 #include <Eigen/Eigenvalues>
-
 #include <cmath>
 #include <complex>
 #include <random>
@@ -85,8 +84,8 @@ Mat7 RefMassMatrix(const ModelParams& p, const Vec7& q) {
 // h = d/dt(dL/dqd)|_{qdd=0} - dL/dq = (dM/dq . qd) qd - dT/dq + dV/dq, by central differences.
 Vec7 RefBias(const ModelParams& p, const Vec7& q, const Vec7& qd) {
   const double eps = 1e-5;
-  const Vec7 ddt = (RefMassMatrix(p, q + eps * qd) * qd - RefMassMatrix(p, q - eps * qd) * qd) /
-                   (2 * eps);
+  const Vec7 ddt =
+      (RefMassMatrix(p, q + eps * qd) * qd - RefMassMatrix(p, q - eps * qd) * qd) / (2 * eps);
   Vec7 dl;
   for (int k = 0; k < kNq; ++k) {
     const Vec7 e = eps * Vec7::Unit(k);
@@ -171,7 +170,8 @@ TEST(ModelTest, FootJacobianMatchesFiniteDifferences) {
       Mat27 J_fd;
       for (int k = 0; k < kNq; ++k) {
         const Vec7 e = eps * Vec7::Unit(k);
-        J_fd.col(k) = (FootPosition(model, q + e, leg) - FootPosition(model, q - e, leg)) / (2 * eps);
+        J_fd.col(k) =
+            (FootPosition(model, q + e, leg) - FootPosition(model, q - e, leg)) / (2 * eps);
       }
       EXPECT_LE((FootJacobian(model, q, leg) - J_fd).cwiseAbs().maxCoeff(), kTolerance);
       const Vec2 F(37.0, -250.0);
@@ -261,8 +261,8 @@ TEST(ModelTest, PositiveHipTorqueTiltsTrunkForwardAndSwingsThighForward) {
   // along v = e_q0 + e_q11 give q0dd = v^T Q / v^T M v > 0.
   Vec7 v = Vec7::Zero();
   v[kQ0] = v[kQ11] = 1.0;
-  const double reduced = v.dot(JointTorqueToGeneralized(Vec4(10.0, 0.0, 0.0, 0.0))) /
-                         v.dot(data.M * v);
+  const double reduced =
+      v.dot(JointTorqueToGeneralized(Vec4(10.0, 0.0, 0.0, 0.0))) / v.dot(data.M * v);
   EXPECT_GT(reduced, 0.0);
 }
 

@@ -19,8 +19,9 @@ class ScenarioFileTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("rabbit_scenario_test_" + std::to_string(::testing::UnitTest::GetInstance()->random_seed()) +
-            "_" + ::testing::UnitTest::GetInstance()->current_test_info()->name());
+           ("rabbit_scenario_test_" +
+            std::to_string(::testing::UnitTest::GetInstance()->random_seed()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
     fs::create_directories(dir_);
   }
   void TearDown() override { fs::remove_all(dir_); }
@@ -111,8 +112,8 @@ shin_length = 0.45
 
 TEST_F(ScenarioFileTest, UnknownKeyNamesKeyAndLine) {
   ExpectError(std::string(kMinimal) + "q0_dge = 3\n", 6, "initial.q0_dge", "unknown key");
-  ExpectError("[simulation]\nduration = 1\nrtoll = 1e-6\n[initial]\ny = 1\n", 3,
-              "simulation.rtoll", "unknown key");
+  ExpectError("[simulation]\nduration = 1\nrtoll = 1e-6\n[initial]\ny = 1\n", 3, "simulation.rtoll",
+              "unknown key");
   ExpectError(std::string("speed = 3\n") + kMinimal, 1, "speed", "unknown key");
 }
 
@@ -121,8 +122,7 @@ TEST_F(ScenarioFileTest, WrongTypesAndValues) {
               "expected a number");
   ExpectError("[simulation]\nduration = nan\n[initial]\ny = 1\n", 2, "simulation.duration",
               "finite");
-  ExpectError("[simulation]\nduration = -1\n[initial]\ny = 1\n", 2, "simulation.duration",
-              ">= 0");
+  ExpectError("[simulation]\nduration = -1\n[initial]\ny = 1\n", 2, "simulation.duration", ">= 0");
   ExpectError("[simulation]\nduration = 1\nintegrator = \"euler\"\n[initial]\ny = 1\n", 3,
               "simulation.integrator", "cvode");
   ExpectError(std::string(kMinimal) + "[model]\nshin_mass = -3\n", 0, "model", "shin_mass");
@@ -131,9 +131,9 @@ TEST_F(ScenarioFileTest, WrongTypesAndValues) {
               "unknown controller");
   ExpectError(std::string(kMinimal) + "[controller]\ntype = \"pd_hold\"\nkp = [1, 2]\n", 8,
               "controller.kp", "expected 4 numbers");
-  ExpectError(std::string(kMinimal) +
-                  "[[terrain.obstacles]]\nx_start = 1\nlength = 0.2\nheight = -0.05\n",
-              9, "terrain.obstacles[1].height", "> 0");
+  ExpectError(
+      std::string(kMinimal) + "[[terrain.obstacles]]\nx_start = 1\nlength = 0.2\nheight = -0.05\n",
+      9, "terrain.obstacles[1].height", "> 0");
 }
 
 TEST_F(ScenarioFileTest, MissingPiecesAndSyntax) {

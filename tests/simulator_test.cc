@@ -87,7 +87,8 @@ TEST_P(SimulatorTest, WithContactAndDampingEnergyNeverIncreases) {
   const SimResult r = Simulate(setup, q, qd, &passive);
   ASSERT_GE(r.samples.size(), 100u);
   int slip_stops = 0;
-  for (const ContactEvent& e : r.events) slip_stops += e.from == ContactMode::kSlide && e.to == ContactMode::kStick;
+  for (const ContactEvent& e : r.events)
+    slip_stops += e.from == ContactMode::kSlide && e.to == ContactMode::kStick;
   EXPECT_GT(slip_stops, 0);  // the balance is exercised
   const double kTolerance = 1e-6 * std::abs(TotalEnergy(r.samples.front()));
   size_t next_event = 0;

@@ -35,8 +35,8 @@ int RunSimulate(const SimulateArgs& args) {
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  const std::string out = args.out.empty() ? "reports/" + scenario.name + "/trajectory.csv"
-                                           : args.out;
+  const std::string out =
+      args.out.empty() ? "reports/" + scenario.name + "/trajectory.csv" : args.out;
   WriteTrajectoryCsvFile(result, out);
 
   if (!args.quiet) {
@@ -44,8 +44,8 @@ int RunSimulate(const SimulateArgs& args) {
     std::printf("scenario   %s (%s)\n", scenario.name.c_str(), scenario.file.c_str());
     std::printf("outcome    %s%s%s\n", OutcomeName(result.outcome),
                 result.reason.empty() ? "" : ": ", result.reason.c_str());
-    std::printf("simulated  %.3f s in %.3f s wall (%.0fx real time), integrator %s\n",
-                result.t_end, wall, wall > 0 ? result.t_end / wall : 0.0,
+    std::printf("simulated  %.3f s in %.3f s wall (%.0fx real time), integrator %s\n", result.t_end,
+                wall, wall > 0 ? result.t_end / wall : 0.0,
                 IntegratorName(scenario.options.integrator.kind));
     std::printf("steps      %ld internal, %ld rhs evals, %ld contact events\n",
                 result.integrator.steps, result.integrator.rhs_evals, result.num_events);
@@ -67,7 +67,8 @@ int RunSimulate(const SimulateArgs& args) {
 
 Command RegisterSimulate(CLI::App* app) {
   auto args = std::make_shared<SimulateArgs>();
-  CLI::App* cmd = app->add_subcommand("simulate", "Run one scenario and write its full time series");
+  CLI::App* cmd =
+      app->add_subcommand("simulate", "Run one scenario and write its full time series");
   cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
   cmd->add_option("--out,-o", args->out,
                   "Output CSV (default: reports/<scenario name>/trajectory.csv)");

@@ -83,9 +83,8 @@ double TouchGuard(const Terrain& terrain, const FootContactState& state,
   return state.mode == ContactMode::kAir ? y : -y;
 }
 
-double SlipGuard(const ContactParams& params, const Terrain& terrain,
-                 const FootContactState& state, const Eigen::Vector2d& pos,
-                 const Eigen::Vector2d& vel) {
+double SlipGuard(const ContactParams& params, const Terrain& terrain, const FootContactState& state,
+                 const Eigen::Vector2d& pos, const Eigen::Vector2d& vel) {
   switch (state.mode) {
     case ContactMode::kAir:
       return 1.0;
@@ -108,15 +107,14 @@ double ResumeGuard(const ContactParams& params, const Terrain& terrain,
          params.resume_fraction * (params.mu_s - params.lambda_g) * fn;
 }
 
-double SpanGuard(const Terrain& terrain, const FootContactState& state,
-                 const Eigen::Vector2d& pos, int obstacle) {
+double SpanGuard(const Terrain& terrain, const FootContactState& state, const Eigen::Vector2d& pos,
+                 int obstacle) {
   const Obstacle& o = terrain.obstacles[obstacle];
   const double inside = std::min(pos.x() - o.x_start, o.x_end() - pos.x());
   return state.surface == obstacle ? inside : -inside;
 }
 
-void OnTouchEvent(const Eigen::Vector2d& pos, const Eigen::Vector2d& vel,
-                  FootContactState* state) {
+void OnTouchEvent(const Eigen::Vector2d& pos, const Eigen::Vector2d& vel, FootContactState* state) {
   if (state->mode != ContactMode::kAir) {
     state->mode = ContactMode::kAir;
     return;

@@ -57,7 +57,8 @@ struct FootForce {
 };
 
 // Height of the foot above its current surface (negative: penetration).
-double FootHeight(const Terrain& terrain, const FootContactState& state, const Eigen::Vector2d& pos);
+double FootHeight(const Terrain& terrain, const FootContactState& state,
+                  const Eigen::Vector2d& pos);
 
 // Contact force on a foot at position pos, velocity vel, in the given discrete state.
 FootForce ComputeFootForce(const ContactParams& params, const Terrain& terrain,
@@ -67,10 +68,10 @@ FootForce ComputeFootForce(const ContactParams& params, const Terrain& terrain,
 // Guards for root finding, positive while the current mode holds (see file comment):
 // TouchGuard for air <-> contact; SlipGuard for stick -> slide and for a slip that reverses;
 // ResumeGuard for a slip slow enough to stick again (1 outside slide).
-double TouchGuard(const Terrain& terrain, const FootContactState& state, const Eigen::Vector2d& pos);
-double SlipGuard(const ContactParams& params, const Terrain& terrain,
-                 const FootContactState& state, const Eigen::Vector2d& pos,
-                 const Eigen::Vector2d& vel);
+double TouchGuard(const Terrain& terrain, const FootContactState& state,
+                  const Eigen::Vector2d& pos);
+double SlipGuard(const ContactParams& params, const Terrain& terrain, const FootContactState& state,
+                 const Eigen::Vector2d& pos, const Eigen::Vector2d& vel);
 double ResumeGuard(const ContactParams& params, const Terrain& terrain,
                    const FootContactState& state, const Eigen::Vector2d& pos,
                    const Eigen::Vector2d& vel);

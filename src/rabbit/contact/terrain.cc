@@ -45,7 +45,8 @@ int Terrain::SegmentHitsObstacle(const Eigen::Vector2d& a, const Eigen::Vector2d
     double t0 = 0.0, t1 = 1.0;
     const double dx = b.x() - a.x(), dy = b.y() - a.y();
     const double p[4] = {-dx, dx, -dy, dy};
-    const double r[4] = {a.x() - o.x_start, o.x_end() - a.x(), a.y() - 0.0, o.height - top_margin - a.y()};
+    const double r[4] = {a.x() - o.x_start, o.x_end() - a.x(), a.y() - 0.0,
+                         o.height - top_margin - a.y()};
     bool outside = false;
     for (int k = 0; k < 4 && !outside; ++k) {
       if (p[k] == 0.0) {

@@ -16,9 +16,9 @@ class PassiveController final : public Controller {
 
 // tau_j = kp_j (target_j - q_j) - kd_j qd_j on [hip1, knee1, hip2, knee2].
 struct PdHoldParams {
-  Vec4 target = Vec4::Zero();              // rad
-  Vec4 kp = Vec4::Constant(600.0);         // N m / rad
-  Vec4 kd = Vec4::Constant(30.0);          // N m s / rad
+  Vec4 target = Vec4::Zero();       // rad
+  Vec4 kp = Vec4::Constant(600.0);  // N m / rad
+  Vec4 kd = Vec4::Constant(30.0);   // N m s / rad
   bool IsValid(std::string* error) const;
 };
 

@@ -4,12 +4,12 @@
 #ifndef RABBIT_IO_TOML_READER_H_
 #define RABBIT_IO_TOML_READER_H_
 
+#include <toml++/toml.h>
+
 #include <memory>
 #include <set>
 #include <string>
 #include <vector>
-
-#include <toml++/toml.h>
 
 namespace rabbit {
 

@@ -32,7 +32,8 @@ Model::Model(const ModelParams& params) : params_(params) {
   gravity_ = p.gravity * Vec2(std::sin(p.slope), -std::cos(p.slope));
 
   // Signed arm of each body's CoM along each link: trunk CoM = hip - trunk_com * e(a0);
-  // thigh CoM = hip + thigh_com * e(a_th); shin CoM = hip + thigh_length e(a_th) + shin_com e(a_sh).
+  // thigh CoM = hip + thigh_com * e(a_th); shin CoM = hip + thigh_length e(a_th) + shin_com
+  // e(a_sh).
   moments_.setZero();
   first_moments_.setZero();
   moments_(kTrunk, kTrunk) = p.trunk_mass * p.trunk_com * p.trunk_com;
@@ -40,8 +41,8 @@ Model::Model(const ModelParams& params) : params_(params) {
   link_inertias_(kTrunk) = p.trunk_inertia;
   for (int leg = 0; leg < kNumLegs; ++leg) {
     const int th = ThighIndex(leg), sh = ShinIndex(leg);
-    moments_(th, th) = p.thigh_mass * p.thigh_com * p.thigh_com +
-                       p.shin_mass * p.thigh_length * p.thigh_length;
+    moments_(th, th) =
+        p.thigh_mass * p.thigh_com * p.thigh_com + p.shin_mass * p.thigh_length * p.thigh_length;
     moments_(th, sh) = moments_(sh, th) = p.shin_mass * p.thigh_length * p.shin_com;
     moments_(sh, sh) = p.shin_mass * p.shin_com * p.shin_com;
     first_moments_(th) = p.thigh_mass * p.thigh_com + p.shin_mass * p.thigh_length;
@@ -193,8 +194,7 @@ bool SolveForAcceleration(const Model& model, const Vec7& Q, Data* data) {
   return true;
 }
 
-bool ForwardDynamics(const Model& model, const Vec7& q, const Vec7& qd, const Vec7& Q,
-                     Data* data) {
+bool ForwardDynamics(const Model& model, const Vec7& q, const Vec7& qd, const Vec7& Q, Data* data) {
   ComputeAbsoluteDynamics(model, q, qd, data);
   return SolveForAcceleration(model, Q, data);
 }

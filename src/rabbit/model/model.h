@@ -1,4 +1,5 @@
-// RABBIT rigid-body model: kinematics, mass matrix, nonlinear effects, energy (DESIGN.md section 1).
+// RABBIT rigid-body model: kinematics, mass matrix, nonlinear effects, energy (DESIGN.md section
+// 1).
 //
 // Generalized coordinates q = [x, y, q0, q11, q12, q21, q22]:
 //   x, y  hip position (world, y up);
@@ -21,8 +22,8 @@
 #ifndef RABBIT_MODEL_MODEL_H_
 #define RABBIT_MODEL_MODEL_H_
 
-#include <Eigen/Core>
 #include <Eigen/Cholesky>
+#include <Eigen/Core>
 #include <array>
 
 #include "rabbit/model/params.h"
@@ -72,7 +73,7 @@ class Model {
 
 // Per-simulation scratch space and results of the algorithms below.
 struct Data {
-  std::array<double, 5> sin_a{}, cos_a{}, ad{};  // link angles' sines, cosines, rates
+  std::array<double, 5> sin_a{}, cos_a{}, ad{};   // link angles' sines, cosines, rates
   Mat7 Mp = Mat7::Zero();                         // mass matrix in absolute coordinates p
   Vec7 hp = Vec7::Zero();                         // nonlinear effects in absolute coordinates
   Mat7 M = Mat7::Zero();                          // mass matrix M(q)
@@ -114,8 +115,7 @@ void AddFootForce(const Model& model, const Data& data, int leg, const Vec2& F, 
 bool SolveForAcceleration(const Model& model, const Vec7& Q, Data* data);
 
 // qdd = M^-1 (Q - h) with Q the total generalized force, into data->qdd.
-bool ForwardDynamics(const Model& model, const Vec7& q, const Vec7& qd, const Vec7& Q,
-                     Data* data);
+bool ForwardDynamics(const Model& model, const Vec7& q, const Vec7& qd, const Vec7& Q, Data* data);
 
 // Position of every point of interest at q.
 Pose ComputePose(const Model& model, const Vec7& q);

@@ -8,11 +8,11 @@ namespace rabbit {
 
 bool ModelParams::IsValid(std::string* error) const {
   const std::vector<std::pair<const char*, double>> positive = {
-      {"trunk_mass", trunk_mass},       {"trunk_inertia", trunk_inertia},
-      {"trunk_length", trunk_length},   {"thigh_mass", thigh_mass},
-      {"thigh_length", thigh_length},   {"thigh_inertia", thigh_inertia},
-      {"shin_mass", shin_mass},         {"shin_length", shin_length},
-      {"shin_inertia", shin_inertia},   {"gear_ratio", gear_ratio}};
+      {"trunk_mass", trunk_mass},     {"trunk_inertia", trunk_inertia},
+      {"trunk_length", trunk_length}, {"thigh_mass", thigh_mass},
+      {"thigh_length", thigh_length}, {"thigh_inertia", thigh_inertia},
+      {"shin_mass", shin_mass},       {"shin_length", shin_length},
+      {"shin_inertia", shin_inertia}, {"gear_ratio", gear_ratio}};
   for (const auto& [name, value] : positive) {
     if (!std::isfinite(value) || value <= 0.0) {
       *error = std::string(name) + " must be a finite number > 0";

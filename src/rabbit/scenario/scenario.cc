@@ -131,8 +131,9 @@ void ReadInitial(TomlReader t, const Model& model, Scenario* s) {
   qd[kQ22] = t.Double("q22d_deg_s", 0.0) * kDeg;
   const bool has_y = t.Has("y"), has_clearance = t.Has("foot_clearance");
   if (has_y == has_clearance) {
-    t.Fail("", "give exactly one of 'y' (hip height, m) or 'foot_clearance' (lowest foot "
-               "above the ground, m)");
+    t.Fail("",
+           "give exactly one of 'y' (hip height, m) or 'foot_clearance' (lowest foot "
+           "above the ground, m)");
   }
   if (has_y) {
     q[kY] = t.Double("y", 0.0);
@@ -168,10 +169,9 @@ void ReadController(TomlReader t, Scenario* s) {
         *out = Vec4::Constant(t.Double(key, (*out)[0]));
       }
     }
-    const std::vector<double> target =
-        t.Doubles("target_deg", {s->q0[kQ11] / kDeg, s->q0[kQ12] / kDeg, s->q0[kQ21] / kDeg,
-                                 s->q0[kQ22] / kDeg},
-                  4);
+    const std::vector<double> target = t.Doubles(
+        "target_deg",
+        {s->q0[kQ11] / kDeg, s->q0[kQ12] / kDeg, s->q0[kQ21] / kDeg, s->q0[kQ22] / kDeg}, 4);
     p.target = Vec4(target[0], target[1], target[2], target[3]) * kDeg;
     Validate(t, p);
   } else {

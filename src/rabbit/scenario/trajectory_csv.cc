@@ -7,10 +7,10 @@
 namespace rabbit {
 
 void WriteTrajectoryCsv(const SimResult& result, std::ostream& out) {
-  static const char* kCoords[] = {"x_m", "y_m", "q0_rad", "q11_rad", "q12_rad", "q21_rad",
-                                  "q22_rad"};
-  static const char* kRates[] = {"xd_m_s",      "yd_m_s",      "q0d_rad_s", "q11d_rad_s",
-                                 "q12d_rad_s",  "q21d_rad_s",  "q22d_rad_s"};
+  static const char* kCoords[] = {"x_m",     "y_m",     "q0_rad", "q11_rad",
+                                  "q12_rad", "q21_rad", "q22_rad"};
+  static const char* kRates[] = {"xd_m_s",     "yd_m_s",     "q0d_rad_s", "q11d_rad_s",
+                                 "q12d_rad_s", "q21d_rad_s", "q22d_rad_s"};
   static const char* kJoints[] = {"hip1", "knee1", "hip2", "knee2"};
   out << "t_s";
   for (const char* c : kCoords) out << ',' << c;
@@ -30,9 +30,9 @@ void WriteTrajectoryCsv(const SimResult& result, std::ostream& out) {
     for (int j = 0; j < kNumJoints; ++j) out << ',' << s.tau_cmd[j];
     for (int j = 0; j < kNumJoints; ++j) out << ',' << s.tau[j];
     for (int leg = 0; leg < kNumLegs; ++leg) {
-      out << ',' << s.foot_pos[leg].x() << ',' << s.foot_pos[leg].y() << ','
-          << s.foot_force[leg].fn << ',' << s.foot_force[leg].ft << ','
-          << (s.foot_force[leg].fn > 0.0 ? 1 : 0) << ',' << ContactModeName(s.foot_mode[leg]);
+      out << ',' << s.foot_pos[leg].x() << ',' << s.foot_pos[leg].y() << ',' << s.foot_force[leg].fn
+          << ',' << s.foot_force[leg].ft << ',' << (s.foot_force[leg].fn > 0.0 ? 1 : 0) << ','
+          << ContactModeName(s.foot_mode[leg]);
     }
     out << ',' << s.kinetic << ',' << s.potential << ',' << s.elastic << ',' << TotalEnergy(s)
         << '\n';

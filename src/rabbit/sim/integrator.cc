@@ -5,8 +5,8 @@
 #include <nvector/nvector_serial.h>
 #include <sundials/sundials_context.h>
 #include <sunlinsol/sunlinsol_dense.h>
-#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 #include <sunmatrix/sunmatrix_dense.h>
+#include <sunnonlinsol/sunnonlinsol_fixedpoint.h>
 
 #include <cmath>
 #include <cstring>
@@ -100,8 +100,8 @@ class SundialsBase : public OdeIntegrator {
                            void* self) {
     auto* s = static_cast<SundialsBase*>(self);
     if (code < 0) {
-      s->error_ = std::string(module) + "::" + function + " (code " + std::to_string(code) +
-                  "): " + msg;
+      s->error_ =
+          std::string(module) + "::" + function + " (code " + std::to_string(code) + "): " + msg;
     }
   }
   void LoadY(const double* y) { std::memcpy(N_VGetArrayPointer(y_), y, sizeof(double) * n_); }
@@ -268,9 +268,8 @@ class ArkodeErkIntegrator final : public SundialsBase {
 }  // namespace
 
 std::unique_ptr<OdeIntegrator> OdeIntegrator::Create(const IntegratorOptions& options, int n,
-                                                     int num_roots, OdeRhsFn rhs,
-                                                     OdeRootFn roots, void* user, double t0,
-                                                     const double* y0) {
+                                                     int num_roots, OdeRhsFn rhs, OdeRootFn roots,
+                                                     void* user, double t0, const double* y0) {
   if (options.kind != IntegratorKind::kArkodeErk) {
     return std::make_unique<CvodeIntegrator>(options, n, num_roots, rhs, roots, user, t0, y0);
   }

@@ -123,8 +123,8 @@ bool CheckState(const SimSetup& setup, const SimSample& s, const Pose& pose, Sim
       if (terrain.SegmentHitsObstacle(pose.knee[leg], pose.foot[leg], kObstacleTopMargin) >= 0 ||
           terrain.SegmentHitsObstacle(pose.hip, pose.knee[leg], kObstacleTopMargin) >= 0) {
         result->outcome = Outcome::kTripped;
-        result->reason = Describe(leg == 0 ? "leg 1 hit an obstacle" : "leg 2 hit an obstacle",
-                                  s.t);
+        result->reason =
+            Describe(leg == 0 ? "leg 1 hit an obstacle" : "leg 2 hit an obstacle", s.t);
         return false;
       }
     }
@@ -144,7 +144,6 @@ bool CheckState(const SimSetup& setup, const SimSample& s, const Pose& pose, Sim
   result->reason = Describe(why, s.t);
   return false;
 }
-
 
 // Transitions a foot is due, from the guards that fired or from guards found violated.
 struct FootTriggers {
@@ -217,8 +216,8 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
   y_q = q0;
   y_qd = qd0;
   const int num_roots = opt.contact ? kNumLegs * (kFootGuards + ctx.num_obstacles) : 0;
-  std::unique_ptr<OdeIntegrator> integrator = OdeIntegrator::Create(
-      opt.integrator, kStateSize, num_roots, Rhs, Roots, &ctx, 0.0, y);
+  std::unique_ptr<OdeIntegrator> integrator =
+      OdeIntegrator::Create(opt.integrator, kStateSize, num_roots, Rhs, Roots, &ctx, 0.0, y);
 
   SimResult result;
   const long num_periods = std::lround(std::ceil(opt.duration / opt.control_period - 1e-9));
@@ -257,8 +256,8 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       s.foot_pos[leg] = obs.foot_pos[leg] = pos;
       s.foot_mode[leg] = ctx.feet[leg].mode;
       if (opt.contact) {
-        s.foot_force[leg] = ComputeFootForce(setup.contact, terrain, ctx.feet[leg], pos,
-                                             sample_data.foot_vel[leg]);
+        s.foot_force[leg] =
+            ComputeFootForce(setup.contact, terrain, ctx.feet[leg], pos, sample_data.foot_vel[leg]);
         s.elastic += ContactElasticEnergy(setup.contact, terrain, ctx.feet[leg], pos);
       }
       obs.foot_force[leg] = s.foot_force[leg];
