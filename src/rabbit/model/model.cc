@@ -60,13 +60,14 @@ Model::Model(const ModelParams& params) : params_(params) {
 }
 
 void ComputeLinkAngles(const Model& /*model*/, const Vec7& q, const Vec7& qd, Data* data) {
+  data->ad = LinkAngles(qd);  // the same linear map as the angles
+  if (q == data->angles_q) return;
   const std::array<double, 5> a = LinkAngles(q);
-  const std::array<double, 5> ad = LinkAngles(qd);  // the same linear map
   for (int k = 0; k < 5; ++k) {
     data->sin_a[k] = std::sin(a[k]);
     data->cos_a[k] = std::cos(a[k]);
-    data->ad[k] = ad[k];
   }
+  data->angles_q = q;
 }
 
 void ComputeAbsoluteDynamics(const Model& model, const Vec7& q, const Vec7& qd, Data* data) {

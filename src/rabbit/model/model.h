@@ -25,6 +25,7 @@
 #include <Eigen/Cholesky>
 #include <Eigen/Core>
 #include <array>
+#include <limits>
 
 #include "rabbit/model/params.h"
 
@@ -73,7 +74,11 @@ class Model {
 
 // Per-simulation scratch space and results of the algorithms below.
 struct Data {
-  std::array<double, 5> sin_a{}, cos_a{}, ad{};   // link angles' sines, cosines, rates
+  std::array<double, 5> sin_a{}, cos_a{}, ad{};  // link angles' sines, cosines, rates
+  // The q at which sin_a and cos_a were last computed: the integrator evaluates the right-hand
+  // side, the guards and the sample at the same q several times per step, and the sines are the
+  // largest part of a right-hand side. A Data serves one Model.
+  Vec7 angles_q = Vec7::Constant(std::numeric_limits<double>::quiet_NaN());
   Mat7 Mp = Mat7::Zero();                         // mass matrix in absolute coordinates p
   Vec7 hp = Vec7::Zero();                         // nonlinear effects in absolute coordinates
   Mat7 M = Mat7::Zero();                          // mass matrix M(q)

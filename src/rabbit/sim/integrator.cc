@@ -96,6 +96,15 @@ class SundialsBase : public OdeIntegrator {
     ++s->root_evals_;
     return s->roots_(t, N_VGetArrayPointer(y), g, s->user_);
   }
+  // Error weights 1 / (rtol |y_i| + atol), as SStolerances gives them, in one pass instead of four
+  // vector operations.
+  static int ErrorWeights(N_Vector y, N_Vector ewt, void* self) {
+    auto* s = static_cast<SundialsBase*>(self);
+    const double* yv = N_VGetArrayPointer(y);
+    double* w = N_VGetArrayPointer(ewt);
+    for (int i = 0; i < s->n_; ++i) w[i] = 1.0 / (s->rtol_ * std::abs(yv[i]) + s->atol_);
+    return 0;
+  }
   static void ErrorHandler(int code, const char* module, const char* function, char* msg,
                            void* self) {
     auto* s = static_cast<SundialsBase*>(self);
@@ -111,6 +120,7 @@ class SundialsBase : public OdeIntegrator {
   }
 
   int n_, num_roots_;
+  double rtol_ = 0.0, atol_ = 0.0;
   OdeRhsFn rhs_;
   OdeRootFn roots_;
   void* user_;
@@ -135,7 +145,9 @@ class CvodeIntegrator final : public SundialsBase {
     Check(CVodeSetErrHandlerFn(mem_, ErrorHandler, this), "CVodeSetErrHandlerFn");
     Check(CVodeInit(mem_, Rhs, t0, y_), "CVodeInit");
     Check(CVodeSetUserData(mem_, this), "CVodeSetUserData");
-    Check(CVodeSStolerances(mem_, o.rtol, o.atol), "CVodeSStolerances");
+    rtol_ = o.rtol;
+    atol_ = o.atol;
+    Check(CVodeWFtolerances(mem_, ErrorWeights), "CVodeWFtolerances");
     if (o.order > 0) Check(CVodeSetMaxOrd(mem_, o.order), "CVodeSetMaxOrd");
     if (bdf) {
       A_ = SUNDenseMatrix(n, n, ctx_);
@@ -212,7 +224,9 @@ class ArkodeErkIntegrator final : public SundialsBase {
     if (mem_ == nullptr) throw std::runtime_error("ERKStepCreate failed");
     Check(ERKStepSetErrHandlerFn(mem_, ErrorHandler, this), "ERKStepSetErrHandlerFn");
     Check(ERKStepSetUserData(mem_, this), "ERKStepSetUserData");
-    Check(ERKStepSStolerances(mem_, o.rtol, o.atol), "ERKStepSStolerances");
+    rtol_ = o.rtol;
+    atol_ = o.atol;
+    Check(ERKStepWFtolerances(mem_, ErrorWeights), "ERKStepWFtolerances");
     Check(ERKStepSetOrder(mem_, o.order > 0 ? o.order : kDefaultErkOrder), "ERKStepSetOrder");
     Check(ERKStepSetMaxNumSteps(mem_, o.max_steps_per_call), "ERKStepSetMaxNumSteps");
     if (o.max_step > 0.0) Check(ERKStepSetMaxStep(mem_, o.max_step), "ERKStepSetMaxStep");

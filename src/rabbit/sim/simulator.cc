@@ -223,7 +223,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
   const long num_periods = std::lround(std::ceil(opt.duration / opt.control_period - 1e-9));
   std::vector<int> fired;
   if (opt.record_every > 0) result.samples.reserve(num_periods / opt.record_every + 1);
-  Data sample_data;
+  Data& sample_data = ctx.data;  // shared with the integrator's callbacks: same q, cached sines
   for (long k = 0;; ++k) {
     SimSample s;
     s.t = static_cast<double>(k) * opt.control_period;
