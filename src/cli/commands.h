@@ -16,6 +16,7 @@ struct Command {
 };
 
 Command RegisterSimulate(CLI::App* app);
+Command RegisterGaits(CLI::App* app);
 
 }  // namespace rabbit::cli
 

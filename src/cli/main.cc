@@ -11,7 +11,8 @@ int main(int argc, char** argv) {
   CLI::App app{"rabbit-gait: offline design of biped gaits for the RABBIT robot", "rabbit"};
   app.set_version_flag("--version", std::string("rabbit ") + RABBIT_VERSION);
   app.require_subcommand(1);
-  const std::vector<rabbit::cli::Command> commands = {rabbit::cli::RegisterSimulate(&app)};
+  const std::vector<rabbit::cli::Command> commands = {rabbit::cli::RegisterSimulate(&app),
+                                                      rabbit::cli::RegisterGaits(&app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,64 @@
+// NLopt gait synthesis (issue 3): searches the pragmatic rules' parameters for a stable periodic
+// gait at a requested average velocity (and step length, when given). Derivative-free: a local
+// stage (SBPLX or BOBYQA) from the chapter's Table 2 values interpolated at the target velocity;
+// when that does not reach the criteria, a global stage (CRS2 with local mutation, seeded) and a
+// local polish of its best point. Deterministic for a seed.
+#ifndef RABBIT_OPTIMIZERS_GAIT_SYNTHESIS_H_
+#define RABBIT_OPTIMIZERS_GAIT_SYNTHESIS_H_
+
+#include <functional>
+#include <string>
+
+#include "rabbit/gait/gait_walk.h"
+
+namespace rabbit {
+
+struct SynthesisOptions {
+  double target_v_m = 0.6;     // m/s
+  double target_l_step = 0.0;  // m; 0 = no step-length target
+  unsigned seed = 1;
+  int budget = 1500;           // simulations at most, all stages together
+  double walk_duration = 10.0;  // s of walking per evaluation, without falling
+  int window = 10;              // steady-state steps measured at the end (at least window + 2)
+  std::string local_algorithm = "sbplx";  // or "bobyqa"
+  // Success: the criteria a synthesized gait must meet.
+  double v_tolerance = 0.02;       // m/s
+  double l_tolerance = 0.02;       // m
+  double max_l_spread = 0.008;     // m, step-to-step variation of L_step over the window
+  bool IsValid(std::string* error) const;
+};
+
+struct SynthesisProgress {
+  int evaluation = 0;
+  const char* stage = "";
+  double cost = 0.0, best_cost = 0.0;
+  GaitMetrics best;
+};
+
+struct SynthesisResult {
+  GaitSpec spec;
+  GaitMetrics metrics;
+  double cost = 0.0;
+  int evaluations = 0;
+  double wall_seconds = 0.0;
+  bool success = false;
+};
+
+// The starting point: Table 2's (qr1_dsw, qi2_dsw, q0_d) interpolated (or extrapolated) at v, with
+// the default pulse and gains.
+GaitSpec InitialGaitSpec(double target_v_m);
+
+// The objective's value for one walk of options.walk_duration seconds (lower is better):
+//   did not walk (fell, or fewer than window + 2 steps): 1000 + 500 (1 - time walked / duration)
+//     + 10 per missing step, so that longer survival ranks better;
+//   walked: ((V_M - V_d) / v_tolerance)^2 + ((L - L_d) / l_tolerance)^2 (when L_d is given)
+//     + (L_step spread / max_l_spread)^2 over the last `window` steps.
+double GaitCost(const GaitMetrics& m, const SynthesisOptions& options);
+bool MeetsCriteria(const GaitMetrics& m, const SynthesisOptions& options);
+
+SynthesisResult SynthesizeGait(const SimSetup& setup, const SynthesisOptions& options,
+                               const std::function<void(const SynthesisProgress&)>& progress);
+
+}  // namespace rabbit
+
+#endif  // RABBIT_OPTIMIZERS_GAIT_SYNTHESIS_H_

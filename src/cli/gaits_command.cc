@@ -1,0 +1,246 @@
+// rabbit gaits synthesize | generate | list: the reference-gait database (issue 3).
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <mutex>
+#include <thread>
+#include <vector>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "cli/commands.h"
+#include "gait_synthesis.h"
+#include "rabbit/gait/gait_database.h"
+#include "rabbit/io/error.h"
+#include "rabbit/io/toml_reader.h"
+#include "rabbit/report/gait_report.h"
+
+namespace rabbit::cli {
+namespace {
+
+// Seconds of walking over which a synthesized gait is measured and recorded: at least 30 steps
+// for the slowest gaits (t_step up to 0.65 s).
+constexpr double kRecordWalk = 20.0;
+
+struct SynthesizeArgs {
+  double v_m = 0.0;
+  double l_step = 0.0;
+  unsigned seed = 1;
+  int budget = 1500;
+  std::string dir = "gaits/reference";
+  std::string name;
+  bool quiet = false;
+};
+
+// Synthesizes one gait and re-walks it long enough to measure it (30+ steps); fills *record.
+bool SynthesizeOne(const SynthesisOptions& options, const std::string& name, bool quiet,
+                   GaitRecord* record) {
+  const Model model{ModelParams{}};
+  SimSetup setup;
+  setup.model = &model;
+  setup.options.record_every = 0;
+  const SynthesisResult r = SynthesizeGait(setup, options, [&](const SynthesisProgress& p) {
+    if (quiet || (p.evaluation % 25 != 0)) return;
+    std::fprintf(stderr, "  [%s %4d] best cost %.3g: %d steps, V_M %.3f m/s, L_step %.3f m\n",
+                 p.stage, p.evaluation, p.best_cost, p.best.steps, p.best.v_m, p.best.l_step);
+  });
+  // Measure the result over a longer walk (the acceptance figures: at least 30 steps, last 10).
+  SimSetup record_setup = setup;
+  record_setup.options.record_every = 1;
+  const GaitRun run = WalkGait(record_setup, r.spec, kRecordWalk, 10);
+  record->name = name;
+  record->target_v_m = options.target_v_m;
+  record->target_l_step = options.target_l_step;
+  record->measured = run.metrics;
+  record->spec = r.spec;
+  record->model_hash = ModelHash(model.params());
+  record->source = "synthesized";
+  record->seed = options.seed;
+  record->swing = AverageSwingTrajectory(run, 10, 101);
+  if (!quiet) {
+    std::printf("%s: %s after %d simulations (%.1f s, %.0f simulations/s)\n", name.c_str(),
+                r.success ? "criteria met" : "criteria NOT met", r.evaluations, r.wall_seconds,
+                r.evaluations / std::max(r.wall_seconds, 1e-9));
+    std::printf("  %d steps in %.0f s%s; last 10: V_M %.3f m/s (spread %.3f), L_step %.3f m "
+                "(spread %.4f), t_step %.3f s\n",
+                run.metrics.steps, kRecordWalk, run.metrics.fell ? (" (" + run.metrics.reason + ")").c_str() : "",
+                run.metrics.v_m, run.metrics.v_m_spread, run.metrics.l_step,
+                run.metrics.l_step_spread, run.metrics.t_step);
+  }
+  return r.success && !run.metrics.fell && run.metrics.steps >= 30 && !record->swing.empty();
+}
+
+std::string DefaultName(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "vm_%.2f", v);
+  return buffer;
+}
+
+int RunSynthesize(const SynthesizeArgs& a) {
+  SynthesisOptions options;
+  options.target_v_m = a.v_m;
+  options.target_l_step = a.l_step;
+  options.seed = a.seed;
+  options.budget = a.budget;
+  std::string error;
+  if (!options.IsValid(&error)) {
+    std::cerr << "rabbit gaits synthesize: " << error << "\n";
+    return 2;
+  }
+  GaitRecord record;
+  const std::string name = a.name.empty() ? DefaultName(a.v_m) : a.name;
+  const bool ok = SynthesizeOne(options, name, a.quiet, &record);
+  if (record.swing.empty()) {
+    std::cerr << "rabbit gaits synthesize: no gait walked; nothing written\n";
+    return 1;
+  }
+  const std::string path = AddGaitToDatabase(record, a.dir);
+  if (!a.quiet) std::printf("wrote %s and %s/index.csv\n", path.c_str(), a.dir.c_str());
+  return ok ? 0 : 1;
+}
+
+struct GenerateArgs {
+  std::string config;
+  std::string dir = "gaits/reference";
+  int jobs = 0;
+  bool quiet = false;
+};
+
+// The default targets: the chapter's Table 2 (V_M, L_step).
+std::vector<SynthesisOptions> DefaultTargets() {
+  const double table[5][2] = {{0.4, 0.24}, {0.5, 0.30}, {0.6, 0.34}, {0.7, 0.38}, {0.8, 0.43}};
+  std::vector<SynthesisOptions> out;
+  for (const auto& row : table) {
+    SynthesisOptions o;
+    o.target_v_m = row[0];
+    o.target_l_step = row[1];
+    out.push_back(o);
+  }
+  return out;
+}
+
+std::vector<SynthesisOptions> ReadTargets(const std::string& path) {
+  TomlReader root = TomlReader::ParseFile(path);
+  std::vector<SynthesisOptions> out;
+  for (TomlReader& t : root.TableArray("gait")) {
+    SynthesisOptions o;
+    o.target_v_m = t.RequiredDouble("v_m");
+    o.target_l_step = t.Double("l_step", 0.0);
+    o.seed = static_cast<unsigned>(t.Integer("seed", o.seed));
+    o.budget = static_cast<int>(t.Integer("budget", o.budget));
+    t.Finish();
+    std::string error;
+    if (!o.IsValid(&error)) t.Fail("", error);
+    out.push_back(o);
+  }
+  root.Finish();
+  if (out.empty()) root.Fail("gait", "no [[gait]] targets");
+  return out;
+}
+
+int RunGenerate(const GenerateArgs& a) {
+  const std::vector<SynthesisOptions> targets =
+      a.config.empty() ? DefaultTargets() : ReadTargets(a.config);
+  std::vector<GaitRecord> records(targets.size());
+  std::vector<char> ok(targets.size(), 0);
+  const auto start = std::chrono::steady_clock::now();
+  // Each target is an independent search (its own simulations and NLopt state): run them on
+  // all cores; each is deterministic for its seed, whatever the number of threads.
+  std::atomic<size_t> next{0};
+  std::mutex print;
+  auto worker = [&] {
+    for (size_t i = next++; i < targets.size(); i = next++) {
+      GaitRecord record;
+      const bool met = SynthesizeOne(targets[i], DefaultName(targets[i].target_v_m), true, &record);
+      records[i] = record;
+      ok[i] = met;
+      if (!a.quiet) {
+        std::lock_guard<std::mutex> lock(print);
+        std::printf("%s: %s; %d steps, V_M %.3f m/s, L_step %.3f m (spread %.4f)\n",
+                    record.name.c_str(), met ? "criteria met" : "criteria NOT met",
+                    record.measured.steps, record.measured.v_m, record.measured.l_step,
+                    record.measured.l_step_spread);
+        std::fflush(stdout);
+      }
+    }
+  };
+  const int jobs = a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  std::vector<std::thread> threads;
+  for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
+  for (std::thread& t : threads) t.join();
+  int failures = 0;
+  for (size_t i = 0; i < records.size(); ++i) {
+    if (records[i].swing.empty()) {
+      ++failures;
+      continue;
+    }
+    AddGaitToDatabase(records[i], a.dir);
+    failures += ok[i] ? 0 : 1;
+  }
+  if (!a.quiet) {
+    std::printf("generated %zu gaits in %s (%.1f s wall, %d jobs); %d missed the criteria\n",
+                records.size(), a.dir.c_str(),
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
+                jobs, failures);
+  }
+  return failures == 0 ? 0 : 1;
+}
+
+int RunList(const std::string& dir) {
+  const std::vector<GaitIndexEntry> entries =
+      ReadGaitIndex((std::filesystem::path(dir) / "index.csv").string());
+  std::printf("%-10s %9s %9s %9s %8s %6s  %s\n", "name", "target", "V_M m/s", "L_step m",
+              "t_step s", "steps", "source");
+  for (const GaitIndexEntry& e : entries) {
+    std::printf("%-10s %9.3f %9.3f %9.3f %8.3f %6d  %s\n", e.name.c_str(), e.target_v_m,
+                e.measured_v_m, e.l_step, e.t_step, e.steps, e.source.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command RegisterGaits(CLI::App* app) {
+  CLI::App* gaits = app->add_subcommand("gaits", "Reference gaits: synthesize, generate, list");
+  gaits->require_subcommand(1);
+  auto synth = std::make_shared<SynthesizeArgs>();
+  CLI::App* s = gaits->add_subcommand(
+      "synthesize", "Search the pragmatic rules for a gait at a velocity (NLopt) and store it");
+  s->add_option("--vm", synth->v_m, "Target average velocity V_M, m/s")->required();
+  s->add_option("--lstep", synth->l_step, "Target step length, m (default: none)");
+  s->add_option("--seed", synth->seed, "Seed of the global stage");
+  s->add_option("--budget", synth->budget, "Simulations at most");
+  s->add_option("--dir", synth->dir, "Gait database directory");
+  s->add_option("--name", synth->name, "Gait name (default vm_<V>)");
+  s->add_flag("--quiet,-q", synth->quiet, "No progress output");
+  auto gen = std::make_shared<GenerateArgs>();
+  CLI::App* g = gaits->add_subcommand(
+      "generate", "Regenerate the reference database: the five gaits of Table 2, or a config's");
+  g->add_option("config", gen->config, "TOML with [[gait]] v_m, l_step, seed, budget");
+  g->add_option("--dir", gen->dir, "Gait database directory");
+  g->add_option("--jobs", gen->jobs, "Parallel searches (default: all cores)");
+  g->add_flag("--quiet,-q", gen->quiet, "No progress output");
+  auto report_dir = std::make_shared<std::string>("gaits/reference");
+  auto report_out = std::make_shared<std::string>("reports/gaits");
+  CLI::App* r = gaits->add_subcommand(
+      "report", "Stick diagrams and swing trajectories of a database's gaits (HTML)");
+  r->add_option("--dir", *report_dir, "Gait database directory");
+  r->add_option("--out", *report_out, "Report directory");
+  auto list_dir = std::make_shared<std::string>("gaits/reference");
+  CLI::App* l = gaits->add_subcommand("list", "List the gaits of a database");
+  l->add_option("--dir", *list_dir, "Gait database directory");
+  return {gaits, [=] {
+            if (s->parsed()) return RunSynthesize(*synth);
+            if (g->parsed()) return RunGenerate(*gen);
+            if (r->parsed()) {
+              std::printf("wrote %s\n", WriteGaitReport(*report_dir, *report_out).c_str());
+              return 0;
+            }
+            if (l->parsed()) return RunList(*list_dir);
+            return 2;
+          }};
+}
+
+}  // namespace rabbit::cli

@@ -1,0 +1,44 @@
+// Gait measurement from the binary contact sensors (DESIGN.md section 2): touchdown and take-off
+// of each foot, and per step L_step (horizontal distance between the feet at touchdown), t_step
+// (take-off to landing of the same leg) and V_M = L_step / t_step (chapter eq. 1).
+#ifndef RABBIT_CONTROL_GAIT_METER_H_
+#define RABBIT_CONTROL_GAIT_METER_H_
+
+#include <array>
+#include <vector>
+
+#include "rabbit/sim/controller.h"
+
+namespace rabbit {
+
+struct StepRecord {
+  int index = 0;           // 0, 1, 2, ... in time order
+  int leg = 0;             // the leg that landed
+  double t_touchdown = 0;  // s
+  double l_step = 0;       // m
+  double t_step = 0;       // s (0 when that leg's take-off was not seen)
+  double v_m = 0;          // m/s (0 when t_step is 0)
+};
+
+class GaitMeter {
+ public:
+  // Feeds one observation; returns true when a foot touched down at this sample (then
+  // last_step() describes it). A touchdown counts only after the foot was off the ground for at
+  // least min_air_time (so that contact flicker at lift-off is not a step).
+  bool Update(const Observation& obs);
+  const std::vector<StepRecord>& steps() const { return steps_; }
+  const StepRecord& last_step() const { return steps_.back(); }
+  bool in_contact(int leg) const { return contact_[leg]; }
+  double takeoff_time(int leg) const { return takeoff_[leg]; }
+  double min_air_time = 0.05;  // s
+
+ private:
+  std::array<bool, kNumLegs> contact_{};
+  std::array<bool, kNumLegs> seen_{};
+  std::array<double, kNumLegs> takeoff_{-1.0, -1.0};
+  std::vector<StepRecord> steps_;
+};
+
+}  // namespace rabbit
+
+#endif  // RABBIT_CONTROL_GAIT_METER_H_

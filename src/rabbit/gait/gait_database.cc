@@ -1,0 +1,278 @@
+#include "rabbit/gait/gait_database.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <iomanip>
+#include <sstream>
+
+#include "rabbit/io/atomic_file.h"
+#include "rabbit/io/error.h"
+
+namespace rabbit {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+const char* const kColumns[] = {"e_rad", "q_i1_rad", "q_i2_rad", "qd_i1_rad_s", "qd_i2_rad_s"};
+
+std::string Trim(const std::string& s) {
+  const size_t a = s.find_first_not_of(" \t\r");
+  if (a == std::string::npos) return "";
+  const size_t b = s.find_last_not_of(" \t\r");
+  return s.substr(a, b - a + 1);
+}
+
+std::vector<std::string> SplitCsv(const std::string& line) {
+  std::vector<std::string> out;
+  std::stringstream ss(line);
+  std::string cell;
+  while (std::getline(ss, cell, ',')) out.push_back(Trim(cell));
+  if (!line.empty() && line.back() == ',') out.push_back("");
+  return out;
+}
+
+// A finite number, all of the cell; else an InputError at file:line naming what.
+double ParseNumber(const std::string& text, const std::string& file, int line,
+                   const std::string& what) {
+  size_t used = 0;
+  double value = 0.0;
+  try {
+    value = std::stod(text, &used);
+  } catch (const std::exception&) {
+    throw InputError(file, line, what, "expected a number, got \"" + text + "\"");
+  }
+  if (used != text.size()) {
+    throw InputError(file, line, what, "expected a number, got \"" + text + "\"");
+  }
+  if (!std::isfinite(value)) throw InputError(file, line, what, "expected a finite number");
+  return value;
+}
+
+// The gait's metadata as ordered key/value pairs (angles in degrees at the edge).
+std::vector<std::pair<std::string, double>> NumericMetadata(const GaitRecord& g) {
+  const PragmaticParams& r = g.spec.rules;
+  return {{"target_v_m", g.target_v_m},
+          {"target_l_step_m", g.target_l_step},
+          {"measured_v_m", g.measured.v_m},
+          {"measured_l_step_m", g.measured.l_step},
+          {"measured_t_step_s", g.measured.t_step},
+          {"l_step_spread_m", g.measured.l_step_spread},
+          {"v_m_spread_m_s", g.measured.v_m_spread},
+          {"steps", static_cast<double>(g.measured.steps)},
+          {"saturation_time_s", g.measured.saturation_time},
+          {"qr1_dsw_deg", r.qr1_dsw / kDeg},
+          {"qi2_dsw_deg", r.qi2_dsw / kDeg},
+          {"q0_d_deg", r.q0_d / kDeg},
+          {"pulse_torque_nm", r.pulse_torque},
+          {"pulse_start_s", r.pulse_start},
+          {"pulse_duration_s", r.pulse_duration},
+          {"hip_kp", r.hip_kp},
+          {"hip_kd", r.hip_kd},
+          {"trunk_kp", r.trunk_kp},
+          {"trunk_kd", r.trunk_kd},
+          {"knee_kp", r.knee_kp},
+          {"knee_kd", r.knee_kd},
+          {"start_speed_m_s", g.spec.start_speed},
+          {"start_angle_deg", g.spec.start_angle / kDeg},
+          {"seed", static_cast<double>(g.seed)}};
+}
+
+}  // namespace
+
+std::string ModelHash(const ModelParams& p) {
+  std::ostringstream text;
+  text << std::setprecision(17) << p.trunk_mass << ' ' << p.trunk_com << ' ' << p.trunk_inertia
+       << ' ' << p.thigh_mass << ' ' << p.thigh_length << ' ' << p.thigh_com << ' '
+       << p.thigh_inertia << ' ' << p.shin_mass << ' ' << p.shin_length << ' ' << p.shin_com
+       << ' ' << p.shin_inertia << ' ' << p.rotor_inertia << ' ' << p.gear_ratio << ' '
+       << p.gravity << ' ' << p.slope;
+  // FNV-1a, 64 bit: stable across platforms and runs (std::hash is not).
+  unsigned long long h = 1469598103934665603ULL;
+  for (unsigned char c : text.str()) {
+    h ^= c;
+    h *= 1099511628211ULL;
+  }
+  char buffer[17];
+  std::snprintf(buffer, sizeof buffer, "%016llx", h);
+  return buffer;
+}
+
+void WriteGaitFile(const GaitRecord& g, const std::string& path) {
+  WriteFileAtomically(path, [&g](std::ostream& out) {
+    out << "# format = " << kGaitFormat << "\n";
+    out << "# name = " << g.name << "\n";
+    out << std::setprecision(17);  // exact round trip: the gait is re-walked from these
+    for (const auto& [key, value] : NumericMetadata(g)) out << "# " << key << " = " << value << "\n";
+    out << "# model_hash = " << g.model_hash << "\n";
+    out << "# generator = rabbit " << RABBIT_VERSION << "\n";
+    out << "# source = " << g.source << "\n";
+    for (size_t i = 0; i < std::size(kColumns); ++i) out << (i ? "," : "") << kColumns[i];
+    out << "\n" << std::setprecision(12);
+    for (const SwingSample& s : g.swing) {
+      out << s.e << ',' << s.q1 << ',' << s.q2 << ',' << s.qd1 << ',' << s.qd2 << "\n";
+    }
+  });
+}
+
+GaitRecord ReadGaitFile(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "", "cannot open gait file");
+  std::map<std::string, std::pair<std::string, int>> meta;  // key -> value, line
+  std::string line;
+  int number = 0;
+  bool header_seen = false;
+  GaitRecord g;
+  std::vector<int> column_of(std::size(kColumns), -1);
+  size_t columns = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (Trim(line).empty()) continue;
+    if (line[0] == '#') {
+      if (header_seen) throw InputError(path, number, "", "comment after the column header");
+      const size_t eq = line.find('=');
+      if (eq == std::string::npos) continue;  // free comment
+      meta[Trim(line.substr(1, eq - 1))] = {Trim(line.substr(eq + 1)), number};
+      continue;
+    }
+    if (!header_seen) {
+      header_seen = true;
+      const auto format = meta.find("format");
+      if (format == meta.end()) {
+        throw InputError(path, 1, "format", "missing '# format = " + std::string(kGaitFormat) + "'");
+      }
+      if (format->second.first != kGaitFormat) {
+        throw InputError(path, format->second.second, "format",
+                         "unsupported format \"" + format->second.first + "\" (expected " +
+                             kGaitFormat + ")");
+      }
+      const std::vector<std::string> names = SplitCsv(line);
+      columns = names.size();
+      for (size_t c = 0; c < std::size(kColumns); ++c) {
+        const auto it = std::find(names.begin(), names.end(), kColumns[c]);
+        if (it == names.end()) {
+          throw InputError(path, number, kColumns[c], "missing column");
+        }
+        column_of[c] = static_cast<int>(it - names.begin());
+      }
+      continue;
+    }
+    const std::vector<std::string> cells = SplitCsv(line);
+    if (cells.size() != columns) {
+      throw InputError(path, number, "", "expected " + std::to_string(columns) + " cells, got " +
+                                             std::to_string(cells.size()));
+    }
+    double v[5];
+    for (size_t c = 0; c < std::size(kColumns); ++c) {
+      v[c] = ParseNumber(cells[column_of[c]], path, number, kColumns[c]);
+    }
+    if (!g.swing.empty() && !(v[0] > g.swing.back().e)) {
+      throw InputError(path, number, "e_rad", "e must increase strictly from row to row");
+    }
+    g.swing.push_back({v[0], v[1], v[2], v[3], v[4]});
+  }
+  if (!header_seen) throw InputError(path, number, "", "no column header and no data");
+  if (g.swing.size() < 2) throw InputError(path, number, "", "fewer than 2 trajectory rows");
+
+  auto number_of = [&](const std::string& key) {
+    const auto it = meta.find(key);
+    if (it == meta.end()) throw InputError(path, 0, key, "missing metadata '# " + key + " = ...'");
+    return ParseNumber(it->second.first, path, it->second.second, key);
+  };
+  auto text_of = [&](const std::string& key) {
+    const auto it = meta.find(key);
+    return it == meta.end() ? std::string() : it->second.first;
+  };
+  g.name = text_of("name");
+  if (g.name.empty()) g.name = std::filesystem::path(path).stem().string();
+  g.model_hash = text_of("model_hash");
+  g.source = text_of("source");
+  g.target_v_m = number_of("target_v_m");
+  g.target_l_step = number_of("target_l_step_m");
+  g.measured.v_m = number_of("measured_v_m");
+  g.measured.l_step = number_of("measured_l_step_m");
+  g.measured.t_step = number_of("measured_t_step_s");
+  g.measured.l_step_spread = number_of("l_step_spread_m");
+  g.measured.v_m_spread = number_of("v_m_spread_m_s");
+  g.measured.steps = static_cast<int>(number_of("steps"));
+  g.measured.saturation_time = number_of("saturation_time_s");
+  PragmaticParams& r = g.spec.rules;
+  r.qr1_dsw = number_of("qr1_dsw_deg") * kDeg;
+  r.qi2_dsw = number_of("qi2_dsw_deg") * kDeg;
+  r.q0_d = number_of("q0_d_deg") * kDeg;
+  r.pulse_torque = number_of("pulse_torque_nm");
+  r.pulse_start = number_of("pulse_start_s");
+  r.pulse_duration = number_of("pulse_duration_s");
+  r.hip_kp = number_of("hip_kp");
+  r.hip_kd = number_of("hip_kd");
+  r.trunk_kp = number_of("trunk_kp");
+  r.trunk_kd = number_of("trunk_kd");
+  r.knee_kp = number_of("knee_kp");
+  r.knee_kd = number_of("knee_kd");
+  g.spec.start_speed = number_of("start_speed_m_s");
+  g.spec.start_angle = number_of("start_angle_deg") * kDeg;
+  g.seed = static_cast<unsigned>(number_of("seed"));
+  std::string error;
+  if (!g.spec.IsValid(&error)) throw InputError(path, 0, "", "invalid gait parameters: " + error);
+  return g;
+}
+
+void WriteGaitIndex(const std::vector<GaitIndexEntry>& entries, const std::string& path) {
+  WriteFileAtomically(path, [&entries](std::ostream& out) {
+    out << "name,file,target_v_m,measured_v_m,l_step_m,t_step_s,steps,source\n";
+    out << std::setprecision(6);
+    for (const GaitIndexEntry& e : entries) {
+      out << e.name << ',' << e.file << ',' << e.target_v_m << ',' << e.measured_v_m << ','
+          << e.l_step << ',' << e.t_step << ',' << e.steps << ',' << e.source << "\n";
+    }
+  });
+}
+
+std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
+  std::vector<GaitIndexEntry> entries;
+  std::ifstream in(path);
+  if (!in) throw InputError(path, 0, "", "cannot open gait index");
+  std::string line;
+  int number = 0;
+  while (std::getline(in, line)) {
+    ++number;
+    if (number == 1 || Trim(line).empty()) continue;
+    const std::vector<std::string> c = SplitCsv(line);
+    if (c.size() != 8) throw InputError(path, number, "", "expected 8 cells");
+    GaitIndexEntry e;
+    e.name = c[0];
+    e.file = c[1];
+    e.target_v_m = ParseNumber(c[2], path, number, "target_v_m");
+    e.measured_v_m = ParseNumber(c[3], path, number, "measured_v_m");
+    e.l_step = ParseNumber(c[4], path, number, "l_step_m");
+    e.t_step = ParseNumber(c[5], path, number, "t_step_s");
+    e.steps = static_cast<int>(ParseNumber(c[6], path, number, "steps"));
+    e.source = c[7];
+    entries.push_back(e);
+  }
+  return entries;
+}
+
+std::string AddGaitToDatabase(const GaitRecord& gait, const std::string& dir) {
+  namespace fs = std::filesystem;
+  const std::string file = gait.name + ".csv";
+  const std::string path = (fs::path(dir) / file).string();
+  WriteGaitFile(gait, path);
+  const std::string index_path = (fs::path(dir) / "index.csv").string();
+  std::vector<GaitIndexEntry> entries;
+  if (fs::exists(index_path)) entries = ReadGaitIndex(index_path);
+  entries.erase(std::remove_if(entries.begin(), entries.end(),
+                               [&](const GaitIndexEntry& e) { return e.name == gait.name; }),
+                entries.end());
+  entries.push_back({gait.name, file, gait.source, gait.target_v_m, gait.measured.v_m,
+                     gait.measured.l_step, gait.measured.t_step, gait.measured.steps});
+  std::sort(entries.begin(), entries.end(), [](const GaitIndexEntry& a, const GaitIndexEntry& b) {
+    return a.target_v_m < b.target_v_m;
+  });
+  WriteGaitIndex(entries, index_path);
+  return path;
+}
+
+}  // namespace rabbit

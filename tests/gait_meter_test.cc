@@ -1,0 +1,48 @@
+// Gait measurement from contact sensors: steps, L_step, t_step and V_M (chapter eq. 1) on a
+// scripted sequence of observations with known answers.
+#include "rabbit/control/gait_meter.h"
+
+#include <gtest/gtest.h>
+
+namespace rabbit {
+namespace {
+
+Observation At(double t, bool c1, bool c2, double x1, double x2) {
+  Observation o;
+  o.t = t;
+  o.foot_contact = {c1, c2};
+  o.foot_pos = {Vec2(x1, 0.0), Vec2(x2, 0.0)};
+  return o;
+}
+
+TEST(GaitMeterTest, MeasuresStepsFromContactSensors) {
+  GaitMeter meter;
+  const double kTolerance = 1e-12;
+  EXPECT_FALSE(meter.Update(At(0.00, true, true, 0.0, -0.3)));
+  EXPECT_FALSE(meter.Update(At(0.10, true, false, 0.0, -0.3)));   // leg 2 takes off at 0.10
+  EXPECT_FALSE(meter.Update(At(0.30, true, false, 0.0, 0.10)));
+  ASSERT_TRUE(meter.Update(At(0.50, true, true, 0.0, 0.32)));     // lands 0.32 ahead at 0.50
+  EXPECT_EQ(meter.last_step().leg, 1);
+  EXPECT_NEAR(meter.last_step().l_step, 0.32, kTolerance);
+  EXPECT_NEAR(meter.last_step().t_step, 0.40, kTolerance);
+  EXPECT_NEAR(meter.last_step().v_m, 0.8, kTolerance);
+  EXPECT_FALSE(meter.Update(At(0.55, false, true, 0.0, 0.32)));  // leg 1 takes off at 0.55
+  ASSERT_TRUE(meter.Update(At(0.90, true, true, 0.62, 0.32)));
+  EXPECT_EQ(meter.last_step().index, 1);
+  EXPECT_EQ(meter.last_step().leg, 0);
+  EXPECT_NEAR(meter.last_step().l_step, 0.30, kTolerance);
+  EXPECT_NEAR(meter.last_step().t_step, 0.35, kTolerance);
+  EXPECT_EQ(meter.steps().size(), 2u);
+}
+
+TEST(GaitMeterTest, ContactFlickerIsNotAStep) {
+  GaitMeter meter;
+  meter.Update(At(0.0, true, true, 0.0, -0.3));
+  meter.Update(At(0.01, true, false, 0.0, -0.3));
+  // Back on the ground 20 ms later: shorter than min_air_time, a flicker.
+  EXPECT_FALSE(meter.Update(At(0.03, true, true, 0.0, -0.3)));
+  EXPECT_TRUE(meter.steps().empty());
+}
+
+}  // namespace
+}  // namespace rabbit
