@@ -119,4 +119,30 @@ TEST_F(CliTest, BadInputExitsTwoNamingFileAndKeyAndWritesNothing) {
   EXPECT_NE(missing.output.find("no such file"), std::string::npos) << missing.output;
 }
 
+TEST_F(CliTest, GaitsListSynthesizeAndReport) {
+  const CliRun list = RunCli("gaits list --dir " + std::string(RABBIT_SOURCE_DIR) + "/gaits/reference");
+  EXPECT_EQ(list.code, 0) << list.output;
+  EXPECT_NE(list.output.find("vm_0.60"), std::string::npos) << list.output;
+  // A quick synthesis (the start point already walks at 0.45 m/s): writes the gait and index.
+  const CliRun synth = RunCli("gaits synthesize --vm 0.45 -q --dir " + (dir_ / "db").string());
+  EXPECT_EQ(synth.code, 0) << synth.output;
+  EXPECT_TRUE(fs::exists(dir_ / "db" / "vm_0.45.csv"));
+  EXPECT_TRUE(fs::exists(dir_ / "db" / "index.csv"));
+  const CliRun report = RunCli("gaits report --dir " + (dir_ / "db").string() + " --out " +
+                               (dir_ / "report").string());
+  EXPECT_EQ(report.code, 0) << report.output;
+  EXPECT_TRUE(fs::exists(dir_ / "report" / "index.html"));
+}
+
+TEST_F(CliTest, GaitsBadInputExitsTwo) {
+  EXPECT_EQ(RunCli("gaits synthesize --vm -1 -q --dir " + (dir_ / "x").string()).code, 2);
+  EXPECT_EQ(RunCli("gaits synthesize").code, 2);
+  EXPECT_EQ(RunCli("gaits list --dir " + (dir_ / "none").string()).code, 2);
+  const std::string config = Write("targets.toml", "[[gait]]\nv_m = 0.5\nspeed = 2\n");
+  const CliRun run = RunCli("gaits generate " + config + " --dir " + (dir_ / "db").string());
+  EXPECT_EQ(run.code, 2);
+  EXPECT_NE(run.output.find("gait[1].speed"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(dir_ / "db"));
+}
+
 }  // namespace

@@ -1,5 +1,6 @@
 // rabbit gaits synthesize | generate | list: the reference-gait database (issue 3).
 #include <atomic>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <mutex>
@@ -23,6 +24,9 @@ namespace {
 // Seconds of walking over which a synthesized gait is measured and recorded: at least 30 steps
 // for the slowest gaits (t_step up to 0.65 s).
 constexpr double kRecordWalk = 20.0;
+constexpr double kAcceptedVelocityError = 0.03;    // m/s
+constexpr double kAcceptedStepSpread = 0.01;       // m
+constexpr double kAcceptedStepLengthError = 0.03;  // m
 
 struct SynthesizeArgs {
   double v_m = 0.0;
@@ -69,7 +73,14 @@ bool SynthesizeOne(const SynthesisOptions& options, const std::string& name, boo
                 run.metrics.v_m, run.metrics.v_m_spread, run.metrics.l_step,
                 run.metrics.l_step_spread, run.metrics.t_step);
   }
-  return r.success && !run.metrics.fell && run.metrics.steps >= 30 && !record->swing.empty();
+  // Issue 3's acceptance on the recorded walk: 30 steps, the last 10 within 0.03 m/s of the
+  // target, L_step varying by less than 1 cm (and within 0.03 m of a requested step length).
+  const GaitMetrics& m = run.metrics;
+  return r.success && !m.fell && m.steps >= 30 && !record->swing.empty() &&
+         std::abs(m.v_m - options.target_v_m) <= kAcceptedVelocityError &&
+         m.l_step_spread < kAcceptedStepSpread &&
+         (options.target_l_step <= 0.0 ||
+          std::abs(m.l_step - options.target_l_step) <= kAcceptedStepLengthError);
 }
 
 std::string DefaultName(double v) {
