@@ -150,6 +150,21 @@ TEST_F(ScenarioFileTest, MissingPiecesAndSyntax) {
   }
 }
 
+TEST_F(ScenarioFileTest, PragmaticControllerFromAGaitFile) {
+  const std::string gait = std::string(RABBIT_SOURCE_DIR) + "/gaits/reference/vm_0.60.csv";
+  const Scenario s = LoadScenario(Write("walk.toml", "[simulation]\nduration = 1\n"
+                                                    "[controller]\ntype = \"pragmatic\"\n"
+                                                    "gait = \"" + gait + "\"\nq0_d_deg = 3.0\n"));
+  EXPECT_EQ(s.controller, ControllerKind::kPragmatic);
+  EXPECT_NEAR(s.walking.rules.q0_d, 3.0 * M_PI / 180.0, 1e-12);  // overridden
+  EXPECT_GT(s.qd0[kX], 0.0);                                     // the walking start's push
+  ExpectError("[simulation]\nduration = 1\n[controller]\ntype = \"pragmatic\"\npulse = 3\n", 5,
+              "controller.pulse", "unknown key");
+  ExpectError("[simulation]\nduration = 1\n[controller]\ntype = \"pragmatic\"\n"
+              "[initial]\ny = 1\n",
+              6, "initial.y", "unknown key");
+}
+
 TEST_F(ScenarioFileTest, ModelFileErrorsNameThatFile) {
   const std::string model = Write("model.toml", "[model]\ntrunk_mas = 15.0\n");
   try {

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <filesystem>
 
+#include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
 
@@ -175,9 +176,38 @@ void ReadController(TomlReader t, Scenario* s) {
     p.target = Vec4(target[0], target[1], target[2], target[3]) * kDeg;
     Validate(t, p);
   } else {
-    t.Fail("type", "unknown controller \"" + type + "\" (expected \"passive\" or \"pd_hold\")");
+    t.Fail("type", "unknown controller \"" + type +
+                       "\" (expected \"passive\", \"pd_hold\" or \"pragmatic\")");
   }
   t.Finish();
+}
+
+// type = "pragmatic": the five rules, from a gait file (`gait`, relative to the scenario) and/or
+// single keys; the walk starts from WalkingStartState.
+void ReadPragmatic(TomlReader* t, Scenario* s) {
+  s->controller = ControllerKind::kPragmatic;
+  GaitSpec& spec = s->walking;
+  const std::string gait = t->String("gait", "");
+  if (!gait.empty()) {
+    spec = ReadGaitFile((std::filesystem::path(t->Directory()) / gait).string()).spec;
+  }
+  PragmaticParams& r = spec.rules;
+  r.qr1_dsw = t->Double("qr1_dsw_deg", r.qr1_dsw / kDeg) * kDeg;
+  r.qi2_dsw = t->Double("qi2_dsw_deg", r.qi2_dsw / kDeg) * kDeg;
+  r.q0_d = t->Double("q0_d_deg", r.q0_d / kDeg) * kDeg;
+  r.pulse_torque = t->Double("pulse_torque", r.pulse_torque);
+  r.pulse_start = t->Double("pulse_start", r.pulse_start);
+  r.pulse_duration = t->Double("pulse_duration", r.pulse_duration);
+  r.hip_kp = t->Double("hip_kp", r.hip_kp);
+  r.hip_kd = t->Double("hip_kd", r.hip_kd);
+  r.trunk_kp = t->Double("trunk_kp", r.trunk_kp);
+  r.trunk_kd = t->Double("trunk_kd", r.trunk_kd);
+  r.knee_kp = t->Double("knee_kp", r.knee_kp);
+  r.knee_kd = t->Double("knee_kd", r.knee_kd);
+  spec.start_speed = t->Double("start_speed", spec.start_speed);
+  spec.start_angle = t->Double("start_angle_deg", spec.start_angle / kDeg) * kDeg;
+  t->Finish();
+  Validate(*t, spec);
 }
 
 }  // namespace
@@ -225,8 +255,18 @@ Scenario LoadScenario(const std::string& path) {
   s.actuator = ReadActuator(root.Table("actuator"));
   s.terrain = ReadTerrain(root.Table("terrain"), &s.model);
   ReadFall(root.Table("fall"), &s.options.fall);
-  ReadInitial(root.Table("initial"), Model(s.model), &s);
-  ReadController(root.Table("controller"), &s);
+  TomlReader controller = root.Table("controller");
+  if (controller.String("type", "passive") == "pragmatic") {
+    ReadPragmatic(&controller, &s);
+    // The walk starts from the documented walking start: [initial] takes no keys.
+    TomlReader initial = root.Table("initial");
+    initial.Finish();
+    WalkingStartState(Model(s.model), s.walking.rules, s.walking.start_speed,
+                      s.walking.start_angle, 0, &s.q0, &s.qd0);
+  } else {
+    ReadInitial(root.Table("initial"), Model(s.model), &s);
+    ReadController(controller, &s);
+  }
   root.Finish();
   return s;
 }
@@ -235,6 +275,8 @@ std::unique_ptr<Controller> MakeController(const Scenario& scenario) {
   switch (scenario.controller) {
     case ControllerKind::kPdHold:
       return std::make_unique<PdHoldController>(scenario.pd_hold);
+    case ControllerKind::kPragmatic:
+      return std::make_unique<PragmaticController>(scenario.walking.rules, 0);
     case ControllerKind::kPassive:
       break;
   }

@@ -9,6 +9,7 @@
 #include "rabbit/contact/contact.h"
 #include "rabbit/contact/terrain.h"
 #include "rabbit/control/basic_controllers.h"
+#include "rabbit/gait/gait_walk.h"
 #include "rabbit/model/params.h"
 #include "rabbit/sim/simulator.h"
 
@@ -16,7 +17,7 @@ namespace rabbit {
 
 class TomlReader;
 
-enum class ControllerKind { kPassive, kPdHold };
+enum class ControllerKind { kPassive, kPdHold, kPragmatic };
 
 struct Scenario {
   std::string file;
@@ -31,6 +32,7 @@ struct Scenario {
   Vec7 qd0 = Vec7::Zero();
   ControllerKind controller = ControllerKind::kPassive;
   PdHoldParams pd_hold;
+  GaitSpec walking;  // kPragmatic: the rules and the documented walking start
   std::string expected_outcome;  // empty: any outcome passes
 };
 
