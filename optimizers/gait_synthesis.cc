@@ -170,8 +170,8 @@ double GaitCost(const GaitMetrics& m, const SynthesisOptions& o) {
 }
 
 bool MeetsCriteria(const GaitMetrics& m, const SynthesisOptions& o) {
-  return !m.fell && m.steps >= o.window + 2 &&
-         std::abs(m.v_m - o.target_v_m) <= o.v_tolerance && m.l_step_spread <= o.max_l_spread &&
+  return !m.fell && m.steps >= o.window + 2 && std::abs(m.v_m - o.target_v_m) <= o.v_tolerance &&
+         m.l_step_spread <= o.max_l_spread &&
          (o.target_l_step <= 0.0 || std::abs(m.l_step - o.target_l_step) <= o.l_tolerance);
 }
 

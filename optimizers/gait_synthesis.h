@@ -17,14 +17,14 @@ struct SynthesisOptions {
   double target_v_m = 0.6;     // m/s
   double target_l_step = 0.0;  // m; 0 = no step-length target
   unsigned seed = 1;
-  int budget = 1500;           // simulations at most, all stages together
+  int budget = 1500;            // simulations at most, all stages together
   double walk_duration = 10.0;  // s of walking per evaluation, without falling
   int window = 10;              // steady-state steps measured at the end (at least window + 2)
   std::string local_algorithm = "sbplx";  // or "bobyqa"
   // Success: the criteria a synthesized gait must meet.
-  double v_tolerance = 0.02;       // m/s
-  double l_tolerance = 0.02;       // m
-  double max_l_spread = 0.008;     // m, step-to-step variation of L_step over the window
+  double v_tolerance = 0.02;    // m/s
+  double l_tolerance = 0.02;    // m
+  double max_l_spread = 0.008;  // m, step-to-step variation of L_step over the window
   bool IsValid(std::string* error) const;
 };
 

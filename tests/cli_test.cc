@@ -120,7 +120,8 @@ TEST_F(CliTest, BadInputExitsTwoNamingFileAndKeyAndWritesNothing) {
 }
 
 TEST_F(CliTest, GaitsListSynthesizeAndReport) {
-  const CliRun list = RunCli("gaits list --dir " + std::string(RABBIT_SOURCE_DIR) + "/gaits/reference");
+  const CliRun list =
+      RunCli("gaits list --dir " + std::string(RABBIT_SOURCE_DIR) + "/gaits/reference");
   EXPECT_EQ(list.code, 0) << list.output;
   EXPECT_NE(list.output.find("vm_0.60"), std::string::npos) << list.output;
   // A quick synthesis (the start point already walks at 0.45 m/s): writes the gait and index.
@@ -137,6 +138,11 @@ TEST_F(CliTest, GaitsListSynthesizeAndReport) {
 TEST_F(CliTest, GaitsBadInputExitsTwo) {
   EXPECT_EQ(RunCli("gaits synthesize --vm -1 -q --dir " + (dir_ / "x").string()).code, 2);
   EXPECT_EQ(RunCli("gaits synthesize").code, 2);
+  EXPECT_EQ(
+      RunCli("gaits synthesize --vm 0.5 --name ../../escape -q --dir " + (dir_ / "y").string())
+          .code,
+      2);
+  EXPECT_FALSE(fs::exists(dir_ / "escape.csv"));
   EXPECT_EQ(RunCli("gaits list --dir " + (dir_ / "none").string()).code, 2);
   const std::string config = Write("targets.toml", "[[gait]]\nv_m = 0.5\nspeed = 2\n");
   const CliRun run = RunCli("gaits generate " + config + " --dir " + (dir_ / "db").string());

@@ -19,9 +19,9 @@ TEST(GaitMeterTest, MeasuresStepsFromContactSensors) {
   GaitMeter meter;
   const double kTolerance = 1e-12;
   EXPECT_FALSE(meter.Update(At(0.00, true, true, 0.0, -0.3)));
-  EXPECT_FALSE(meter.Update(At(0.10, true, false, 0.0, -0.3)));   // leg 2 takes off at 0.10
+  EXPECT_FALSE(meter.Update(At(0.10, true, false, 0.0, -0.3)));  // leg 2 takes off at 0.10
   EXPECT_FALSE(meter.Update(At(0.30, true, false, 0.0, 0.10)));
-  ASSERT_TRUE(meter.Update(At(0.50, true, true, 0.0, 0.32)));     // lands 0.32 ahead at 0.50
+  ASSERT_TRUE(meter.Update(At(0.50, true, true, 0.0, 0.32)));  // lands 0.32 ahead at 0.50
   EXPECT_EQ(meter.last_step().leg, 1);
   EXPECT_NEAR(meter.last_step().l_step, 0.32, kTolerance);
   EXPECT_NEAR(meter.last_step().t_step, 0.40, kTolerance);
@@ -33,6 +33,15 @@ TEST(GaitMeterTest, MeasuresStepsFromContactSensors) {
   EXPECT_NEAR(meter.last_step().l_step, 0.30, kTolerance);
   EXPECT_NEAR(meter.last_step().t_step, 0.35, kTolerance);
   EXPECT_EQ(meter.steps().size(), 2u);
+}
+
+TEST(GaitMeterTest, FootInTheAirAtTheStartLandsWithoutAStepTime) {
+  GaitMeter meter;
+  meter.Update(At(0.0, true, false, 0.0, -0.3));  // leg 2 already in the air: take-off unseen
+  ASSERT_TRUE(meter.Update(At(0.4, true, true, 0.0, 0.25)));
+  EXPECT_EQ(meter.last_step().t_step, 0.0);
+  EXPECT_EQ(meter.last_step().v_m, 0.0);
+  EXPECT_NEAR(meter.last_step().l_step, 0.25, 1e-12);
 }
 
 TEST(GaitMeterTest, ContactFlickerIsNotAStep) {

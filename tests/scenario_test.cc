@@ -136,6 +136,25 @@ TEST_F(ScenarioFileTest, WrongTypesAndValues) {
       9, "terrain.obstacles[1].height", "> 0");
 }
 
+TEST_F(ScenarioFileTest, ImpossibleStatesAndSettingsAreRefused) {
+  ExpectError("[simulation]\nduration = 1\n[initial]\ny = 0.5\n", 0, "initial",
+              "below its surface");
+  ExpectError(
+      "[simulation]\nduration = 1\n[initial]\nfoot_clearance = 0\nq11_deg = 10\n"
+      "q21_deg = -10\n[[terrain.obstacles]]\nx_start = 0.05\nlength = 0.08\nheight = 0.3\n",
+      0, "initial", "inside obstacle");
+  ExpectError("[simulation]\nduration = 1\n[initial]\ny = 1\nxd = 1e300\n", 0, "initial", "rates");
+  ExpectError("[simulation]\nduration = 1\ncontrol_rate_hz = 1e300\n[initial]\ny = 1\n", 3,
+              "simulation.control_rate_hz", "Hz");
+  ExpectError("[simulation]\nduration = 1e7\n[initial]\ny = 1\n", 2, "simulation.duration",
+              "too long");
+  ExpectError("[simulation]\nduration = 1\nintegrator = \"cvode\"\norder = 7\n[initial]\ny = 1\n",
+              0, "simulation", "1..5");
+  ExpectError("[simulation]\nduration = 1\nrecord_every = 4294967296\n[initial]\ny = 1\n", 3,
+              "simulation.record_every", "integer in");
+  ExpectError(std::string("name = \"../escape\"\n") + kMinimal, 1, "name", "letters");
+}
+
 TEST_F(ScenarioFileTest, MissingPiecesAndSyntax) {
   ExpectError("[initial]\ny = 1\n", 0, "simulation", "missing required key 'duration'");
   ExpectError("[simulation]\nduration = 1\n", 0, "initial", "exactly one of");
@@ -152,17 +171,20 @@ TEST_F(ScenarioFileTest, MissingPiecesAndSyntax) {
 
 TEST_F(ScenarioFileTest, PragmaticControllerFromAGaitFile) {
   const std::string gait = std::string(RABBIT_SOURCE_DIR) + "/gaits/reference/vm_0.60.csv";
-  const Scenario s = LoadScenario(Write("walk.toml", "[simulation]\nduration = 1\n"
-                                                    "[controller]\ntype = \"pragmatic\"\n"
-                                                    "gait = \"" + gait + "\"\nq0_d_deg = 3.0\n"));
+  const Scenario s = LoadScenario(Write("walk.toml",
+                                        "[simulation]\nduration = 1\n"
+                                        "[controller]\ntype = \"pragmatic\"\n"
+                                        "gait = \"" +
+                                            gait + "\"\nq0_d_deg = 3.0\n"));
   EXPECT_EQ(s.controller, ControllerKind::kPragmatic);
   EXPECT_NEAR(s.walking.rules.q0_d, 3.0 * M_PI / 180.0, 1e-12);  // overridden
   EXPECT_GT(s.qd0[kX], 0.0);                                     // the walking start's push
   ExpectError("[simulation]\nduration = 1\n[controller]\ntype = \"pragmatic\"\npulse = 3\n", 5,
               "controller.pulse", "unknown key");
-  ExpectError("[simulation]\nduration = 1\n[controller]\ntype = \"pragmatic\"\n"
-              "[initial]\ny = 1\n",
-              6, "initial.y", "unknown key");
+  ExpectError(
+      "[simulation]\nduration = 1\n[controller]\ntype = \"pragmatic\"\n"
+      "[initial]\ny = 1\n",
+      6, "initial.y", "unknown key");
 }
 
 TEST_F(ScenarioFileTest, ModelFileErrorsNameThatFile) {

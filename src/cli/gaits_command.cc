@@ -1,15 +1,15 @@
 // rabbit gaits synthesize | generate | list: the reference-gait database (issue 3).
 #include <atomic>
-#include <cmath>
 #include <chrono>
+#include <cmath>
 #include <cstdio>
-#include <mutex>
-#include <thread>
-#include <vector>
 #include <filesystem>
 #include <iostream>
 #include <memory>
+#include <mutex>
 #include <string>
+#include <thread>
+#include <vector>
 
 #include "cli/commands.h"
 #include "gait_synthesis.h"
@@ -17,6 +17,7 @@
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/report/gait_report.h"
+#include "rabbit/scenario/scenario.h"
 
 namespace rabbit::cli {
 namespace {
@@ -35,6 +36,7 @@ struct SynthesizeArgs {
   int budget = 1500;
   std::string dir = "gaits/reference";
   std::string name;
+  bool force = false;
   bool quiet = false;
 };
 
@@ -67,11 +69,12 @@ bool SynthesizeOne(const SynthesisOptions& options, const std::string& name, boo
     std::printf("%s: %s after %d simulations (%.1f s, %.0f simulations/s)\n", name.c_str(),
                 r.success ? "criteria met" : "criteria NOT met", r.evaluations, r.wall_seconds,
                 r.evaluations / std::max(r.wall_seconds, 1e-9));
-    std::printf("  %d steps in %.0f s%s; last 10: V_M %.3f m/s (spread %.3f), L_step %.3f m "
-                "(spread %.4f), t_step %.3f s\n",
-                run.metrics.steps, kRecordWalk, run.metrics.fell ? (" (" + run.metrics.reason + ")").c_str() : "",
-                run.metrics.v_m, run.metrics.v_m_spread, run.metrics.l_step,
-                run.metrics.l_step_spread, run.metrics.t_step);
+    std::printf(
+        "  %d steps in %.0f s%s; last 10: V_M %.3f m/s (spread %.3f), L_step %.3f m "
+        "(spread %.4f), t_step %.3f s\n",
+        run.metrics.steps, kRecordWalk,
+        run.metrics.fell ? (" (" + run.metrics.reason + ")").c_str() : "", run.metrics.v_m,
+        run.metrics.v_m_spread, run.metrics.l_step, run.metrics.l_step_spread, run.metrics.t_step);
   }
   // Issue 3's acceptance on the recorded walk: 30 steps, the last 10 within 0.03 m/s of the
   // target, L_step varying by less than 1 cm (and within 0.03 m of a requested step length).
@@ -102,9 +105,14 @@ int RunSynthesize(const SynthesizeArgs& a) {
   }
   GaitRecord record;
   const std::string name = a.name.empty() ? DefaultName(a.v_m) : a.name;
+  if (!IsSafeName(name)) {
+    std::cerr << "rabbit gaits synthesize: --name: use letters, digits, '.', '_' and '-' only\n";
+    return 2;
+  }
   const bool ok = SynthesizeOne(options, name, a.quiet, &record);
-  if (record.swing.empty()) {
-    std::cerr << "rabbit gaits synthesize: no gait walked; nothing written\n";
+  if (record.swing.empty() || (!ok && !a.force)) {
+    std::cerr << "rabbit gaits synthesize: the gait misses the criteria; nothing written (--force "
+                 "stores it anyway)\n";
     return 1;
   }
   const std::string path = AddGaitToDatabase(record, a.dir);
@@ -116,6 +124,7 @@ struct GenerateArgs {
   std::string config;
   std::string dir = "gaits/reference";
   int jobs = 0;
+  bool force = false;
   bool quiet = false;
 };
 
@@ -139,8 +148,8 @@ std::vector<SynthesisOptions> ReadTargets(const std::string& path) {
     SynthesisOptions o;
     o.target_v_m = t.RequiredDouble("v_m");
     o.target_l_step = t.Double("l_step", 0.0);
-    o.seed = static_cast<unsigned>(t.Integer("seed", o.seed));
-    o.budget = static_cast<int>(t.Integer("budget", o.budget));
+    o.seed = static_cast<unsigned>(t.Integer("seed", o.seed, 0, 4294967295L));
+    o.budget = static_cast<int>(t.Integer("budget", o.budget, 1, 1000000));
     t.Finish();
     std::string error;
     if (!o.IsValid(&error)) t.Fail("", error);
@@ -156,6 +165,7 @@ int RunGenerate(const GenerateArgs& a) {
       a.config.empty() ? DefaultTargets() : ReadTargets(a.config);
   std::vector<GaitRecord> records(targets.size());
   std::vector<char> ok(targets.size(), 0);
+  std::vector<std::string> errors(targets.size());
   const auto start = std::chrono::steady_clock::now();
   // Each target is an independent search (its own simulations and NLopt state): run them on
   // all cores; each is deterministic for its seed, whatever the number of threads.
@@ -164,7 +174,12 @@ int RunGenerate(const GenerateArgs& a) {
   auto worker = [&] {
     for (size_t i = next++; i < targets.size(); i = next++) {
       GaitRecord record;
-      const bool met = SynthesizeOne(targets[i], DefaultName(targets[i].target_v_m), true, &record);
+      bool met = false;
+      try {
+        met = SynthesizeOne(targets[i], DefaultName(targets[i].target_v_m), true, &record);
+      } catch (const std::exception& e) {  // kept per target; the others go on
+        errors[i] = e.what();
+      }
       records[i] = record;
       ok[i] = met;
       if (!a.quiet) {
@@ -177,18 +192,19 @@ int RunGenerate(const GenerateArgs& a) {
       }
     }
   };
-  const int jobs = a.jobs > 0 ? a.jobs : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  const int jobs =
+      std::min(static_cast<int>(targets.size()), a.jobs > 0 ? std::min(a.jobs, 4 * cores) : cores);
   std::vector<std::thread> threads;
   for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
   for (std::thread& t : threads) t.join();
   int failures = 0;
   for (size_t i = 0; i < records.size(); ++i) {
-    if (records[i].swing.empty()) {
-      ++failures;
-      continue;
-    }
-    AddGaitToDatabase(records[i], a.dir);
+    if (!errors[i].empty()) std::fprintf(stderr, "target %zu: %s\n", i + 1, errors[i].c_str());
     failures += ok[i] ? 0 : 1;
+    // A gait that misses the criteria never replaces a stored one, unless --force.
+    if (records[i].swing.empty() || (!ok[i] && !a.force)) continue;
+    AddGaitToDatabase(records[i], a.dir);
   }
   if (!a.quiet) {
     std::printf("generated %zu gaits in %s (%.1f s wall, %d jobs); %d missed the criteria\n",
@@ -222,17 +238,20 @@ Command RegisterGaits(CLI::App* app) {
   s->add_option("--vm", synth->v_m, "Target average velocity V_M, m/s")->required();
   s->add_option("--lstep", synth->l_step, "Target step length, m (default: none)");
   s->add_option("--seed", synth->seed, "Seed of the global stage");
-  s->add_option("--budget", synth->budget, "Simulations at most");
+  s->add_option("--budget", synth->budget, "Simulations at most")->check(CLI::Range(1, 1000000));
   s->add_option("--dir", synth->dir, "Gait database directory");
   s->add_option("--name", synth->name, "Gait name (default vm_<V>)");
+  s->add_flag("--force", synth->force, "Store the gait even if it misses the criteria");
   s->add_flag("--quiet,-q", synth->quiet, "No progress output");
   auto gen = std::make_shared<GenerateArgs>();
   CLI::App* g = gaits->add_subcommand(
       "generate", "Regenerate the reference database: the five gaits of Table 2, or a config's");
   g->add_option("config", gen->config, "TOML with [[gait]] v_m, l_step, seed, budget");
   g->add_option("--dir", gen->dir, "Gait database directory");
-  g->add_option("--jobs", gen->jobs, "Parallel searches (default: all cores)");
+  g->add_option("--jobs", gen->jobs, "Parallel searches (default: all cores)")
+      ->check(CLI::Range(1, 1024));
   g->add_flag("--quiet,-q", gen->quiet, "No progress output");
+  g->add_flag("--force", gen->force, "Store gaits even if they miss the criteria");
   auto report_dir = std::make_shared<std::string>("gaits/reference");
   auto report_out = std::make_shared<std::string>("reports/gaits");
   CLI::App* r = gaits->add_subcommand(

@@ -25,6 +25,12 @@ int RunSimulate(const SimulateArgs& args) {
   Scenario scenario = LoadScenario(args.scenario);
   if (!args.integrator.empty()) {
     ParseIntegratorName(args.integrator, &scenario.options.integrator.kind);  // checked by CLI11
+    std::string error;
+    if (!scenario.options.integrator.IsValid(&error)) {
+      std::cerr << "rabbit simulate: --integrator " << args.integrator << ": " << error << " ("
+                << scenario.file << " sets the order)\n";
+      return 2;
+    }
   }
   const Model model(scenario.model);
   const SimSetup setup = MakeSimSetup(scenario, &model);

@@ -35,7 +35,8 @@ class GaitMeter {
  private:
   std::array<bool, kNumLegs> contact_{};
   std::array<bool, kNumLegs> seen_{};
-  std::array<double, kNumLegs> takeoff_{-1.0, -1.0};
+  std::array<double, kNumLegs> takeoff_{-1.0, -1.0};    // last take-off seen (-1: none)
+  std::array<double, kNumLegs> air_since_{-1.0, -1.0};  // in the air since (first sample too)
   std::vector<StepRecord> steps_;
 };
 

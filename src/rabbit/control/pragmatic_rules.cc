@@ -7,11 +7,18 @@
 namespace rabbit {
 
 bool PragmaticParams::IsValid(std::string* error) const {
-  const std::vector<std::pair<const char*, double>> values = {
-      {"qr1_dsw", qr1_dsw},   {"qi2_dsw", qi2_dsw}, {"q0_d", q0_d},
-      {"pulse_torque", pulse_torque}, {"pulse_start", pulse_start},
-      {"pulse_duration", pulse_duration}, {"hip_kp", hip_kp}, {"hip_kd", hip_kd},
-      {"trunk_kp", trunk_kp}, {"trunk_kd", trunk_kd}, {"knee_kp", knee_kp}, {"knee_kd", knee_kd}};
+  const std::vector<std::pair<const char*, double>> values = {{"qr1_dsw", qr1_dsw},
+                                                              {"qi2_dsw", qi2_dsw},
+                                                              {"q0_d", q0_d},
+                                                              {"pulse_torque", pulse_torque},
+                                                              {"pulse_start", pulse_start},
+                                                              {"pulse_duration", pulse_duration},
+                                                              {"hip_kp", hip_kp},
+                                                              {"hip_kd", hip_kd},
+                                                              {"trunk_kp", trunk_kp},
+                                                              {"trunk_kd", trunk_kd},
+                                                              {"knee_kp", knee_kp},
+                                                              {"knee_kd", knee_kd}};
   for (const auto& [name, value] : values) {
     if (!std::isfinite(value)) {
       *error = std::string(name) + " must be finite";
@@ -26,8 +33,20 @@ bool PragmaticParams::IsValid(std::string* error) const {
     *error = "gains must be >= 0";
     return false;
   }
-  if (qi2_dsw > 0.0) {
-    *error = "qi2_dsw must be <= 0 (knees flex to negative angles)";
+  if (!(qi2_dsw <= 0.0 && qi2_dsw > -M_PI / 2)) {
+    *error = "qi2_dsw must be in (-90, 0] deg (knees flex to negative angles)";
+    return false;
+  }
+  if (!(qr1_dsw > 0.0 && qr1_dsw < M_PI / 2)) {
+    *error = "qr1_dsw must be in (0, 90) deg";
+    return false;
+  }
+  if (!(std::abs(q0_d) < M_PI / 4)) {
+    *error = "q0_d must be within 45 deg (the fall limit)";
+    return false;
+  }
+  if (pulse_start > 10.0 || pulse_duration > 10.0 || std::abs(pulse_torque) > 1e4) {
+    *error = "pulse beyond sensible bounds (start, duration <= 10 s, |torque| <= 1e4 N m)";
     return false;
   }
   return true;

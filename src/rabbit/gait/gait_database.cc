@@ -86,9 +86,9 @@ std::string ModelHash(const ModelParams& p) {
   std::ostringstream text;
   text << std::setprecision(17) << p.trunk_mass << ' ' << p.trunk_com << ' ' << p.trunk_inertia
        << ' ' << p.thigh_mass << ' ' << p.thigh_length << ' ' << p.thigh_com << ' '
-       << p.thigh_inertia << ' ' << p.shin_mass << ' ' << p.shin_length << ' ' << p.shin_com
-       << ' ' << p.shin_inertia << ' ' << p.rotor_inertia << ' ' << p.gear_ratio << ' '
-       << p.gravity << ' ' << p.slope;
+       << p.thigh_inertia << ' ' << p.shin_mass << ' ' << p.shin_length << ' ' << p.shin_com << ' '
+       << p.shin_inertia << ' ' << p.rotor_inertia << ' ' << p.gear_ratio << ' ' << p.gravity << ' '
+       << p.slope;
   // FNV-1a, 64 bit: stable across platforms and runs (std::hash is not).
   unsigned long long h = 1469598103934665603ULL;
   for (unsigned char c : text.str()) {
@@ -105,7 +105,8 @@ void WriteGaitFile(const GaitRecord& g, const std::string& path) {
     out << "# format = " << kGaitFormat << "\n";
     out << "# name = " << g.name << "\n";
     out << std::setprecision(17);  // exact round trip: the gait is re-walked from these
-    for (const auto& [key, value] : NumericMetadata(g)) out << "# " << key << " = " << value << "\n";
+    for (const auto& [key, value] : NumericMetadata(g))
+      out << "# " << key << " = " << value << "\n";
     out << "# model_hash = " << g.model_hash << "\n";
     out << "# generator = rabbit " << RABBIT_VERSION << "\n";
     out << "# source = " << g.source << "\n";
@@ -141,12 +142,13 @@ GaitRecord ReadGaitFile(const std::string& path) {
       header_seen = true;
       const auto format = meta.find("format");
       if (format == meta.end()) {
-        throw InputError(path, 1, "format", "missing '# format = " + std::string(kGaitFormat) + "'");
+        throw InputError(path, 1, "format",
+                         "missing '# format = " + std::string(kGaitFormat) + "'");
       }
       if (format->second.first != kGaitFormat) {
-        throw InputError(path, format->second.second, "format",
-                         "unsupported format \"" + format->second.first + "\" (expected " +
-                             kGaitFormat + ")");
+        throw InputError(
+            path, format->second.second, "format",
+            "unsupported format \"" + format->second.first + "\" (expected " + kGaitFormat + ")");
       }
       const std::vector<std::string> names = SplitCsv(line);
       columns = names.size();
@@ -161,12 +163,19 @@ GaitRecord ReadGaitFile(const std::string& path) {
     }
     const std::vector<std::string> cells = SplitCsv(line);
     if (cells.size() != columns) {
-      throw InputError(path, number, "", "expected " + std::to_string(columns) + " cells, got " +
-                                             std::to_string(cells.size()));
+      throw InputError(
+          path, number, "",
+          "expected " + std::to_string(columns) + " cells, got " + std::to_string(cells.size()));
     }
     double v[5];
     for (size_t c = 0; c < std::size(kColumns); ++c) {
       v[c] = ParseNumber(cells[column_of[c]], path, number, kColumns[c]);
+      // Angles within a turn, rates within 100 rad/s: anything else is not a gait.
+      const double bound = c < 3 ? 2 * M_PI : 100.0;
+      if (std::abs(v[c]) > bound) {
+        throw InputError(path, number, kColumns[c],
+                         "value out of range (|x| <= " + std::to_string(bound) + ")");
+      }
     }
     if (!g.swing.empty() && !(v[0] > g.swing.back().e)) {
       throw InputError(path, number, "e_rad", "e must increase strictly from row to row");
@@ -180,6 +189,15 @@ GaitRecord ReadGaitFile(const std::string& path) {
     const auto it = meta.find(key);
     if (it == meta.end()) throw InputError(path, 0, key, "missing metadata '# " + key + " = ...'");
     return ParseNumber(it->second.first, path, it->second.second, key);
+  };
+  auto count_of = [&](const std::string& key, double max) {
+    const double v = number_of(key);
+    if (!(v >= 0.0 && v <= max && v == std::floor(v))) {
+      throw InputError(
+          path, meta[key].second, key,
+          "expected a whole number in [0, " + std::to_string(static_cast<long>(max)) + "]");
+    }
+    return v;
   };
   auto text_of = [&](const std::string& key) {
     const auto it = meta.find(key);
@@ -196,7 +214,7 @@ GaitRecord ReadGaitFile(const std::string& path) {
   g.measured.t_step = number_of("measured_t_step_s");
   g.measured.l_step_spread = number_of("l_step_spread_m");
   g.measured.v_m_spread = number_of("v_m_spread_m_s");
-  g.measured.steps = static_cast<int>(number_of("steps"));
+  g.measured.steps = static_cast<int>(count_of("steps", 1e6));
   g.measured.saturation_time = number_of("saturation_time_s");
   PragmaticParams& r = g.spec.rules;
   r.qr1_dsw = number_of("qr1_dsw_deg") * kDeg;
@@ -213,7 +231,7 @@ GaitRecord ReadGaitFile(const std::string& path) {
   r.knee_kd = number_of("knee_kd");
   g.spec.start_speed = number_of("start_speed_m_s");
   g.spec.start_angle = number_of("start_angle_deg") * kDeg;
-  g.seed = static_cast<unsigned>(number_of("seed"));
+  g.seed = static_cast<unsigned>(count_of("seed", 4294967295.0));
   std::string error;
   if (!g.spec.IsValid(&error)) throw InputError(path, 0, "", "invalid gait parameters: " + error);
   return g;
@@ -248,7 +266,9 @@ std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
     e.measured_v_m = ParseNumber(c[3], path, number, "measured_v_m");
     e.l_step = ParseNumber(c[4], path, number, "l_step_m");
     e.t_step = ParseNumber(c[5], path, number, "t_step_s");
-    e.steps = static_cast<int>(ParseNumber(c[6], path, number, "steps"));
+    const double steps = ParseNumber(c[6], path, number, "steps");
+    if (!(steps >= 0.0 && steps <= 1e6)) throw InputError(path, number, "steps", "out of range");
+    e.steps = static_cast<int>(steps);
     e.source = c[7];
     entries.push_back(e);
   }
@@ -257,12 +277,20 @@ std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
 
 std::string AddGaitToDatabase(const GaitRecord& gait, const std::string& dir) {
   namespace fs = std::filesystem;
+  for (const std::string& field : {gait.name, gait.source}) {
+    if (field.find_first_of(",\n\r") != std::string::npos ||
+        field.find("..") != std::string::npos || field.find('/') != std::string::npos) {
+      throw InputError(dir, 0, field,
+                       "gait names and sources may not hold ',', '/', '..' or newlines");
+    }
+  }
   const std::string file = gait.name + ".csv";
   const std::string path = (fs::path(dir) / file).string();
-  WriteGaitFile(gait, path);
   const std::string index_path = (fs::path(dir) / "index.csv").string();
+  // Read (and so validate) the index before writing anything.
   std::vector<GaitIndexEntry> entries;
   if (fs::exists(index_path)) entries = ReadGaitIndex(index_path);
+  WriteGaitFile(gait, path);
   entries.erase(std::remove_if(entries.begin(), entries.end(),
                                [&](const GaitIndexEntry& e) { return e.name == gait.name; }),
                 entries.end());

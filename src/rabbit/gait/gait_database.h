@@ -21,13 +21,13 @@ namespace rabbit {
 constexpr const char* kGaitFormat = "rabbit-gait/1";
 
 struct GaitRecord {
-  std::string name;             // e.g. vm_0.60
-  double target_v_m = 0.0;      // m/s
-  double target_l_step = 0.0;   // m, 0 = none requested
-  GaitMetrics measured;         // steady-state figures of the walk that produced it
-  GaitSpec spec;                // how to walk it again
-  std::string model_hash;       // of the model parameters it was made with
-  std::string source;           // "synthesized" or how else it was made
+  std::string name;            // e.g. vm_0.60
+  double target_v_m = 0.0;     // m/s
+  double target_l_step = 0.0;  // m, 0 = none requested
+  GaitMetrics measured;        // steady-state figures of the walk that produced it
+  GaitSpec spec;               // how to walk it again
+  std::string model_hash;      // of the model parameters it was made with
+  std::string source;          // "synthesized" or how else it was made
   unsigned seed = 0;
   std::vector<SwingSample> swing;  // e ascending
 };

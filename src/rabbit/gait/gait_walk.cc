@@ -37,13 +37,17 @@ GaitRun WalkGait(const SimSetup& setup, const GaitSpec& spec, double duration, i
     m.saturation_time += run.sim.saturation_time(j, walk.options.control_period);
   }
   // Steps count while legs alternate and each step is a real one (a foot that lands where it
-  // took off, or lands again at once, is a stumble: the walk has ended).
+  // took off, or lands again at once, is a stumble: the walk has ended). The first landing of the
+  // swing leg, in the air since the start, has no measured take-off (t_step 0): it counts as a
+  // step but is never in the measured window.
   for (size_t i = 0; i < run.steps.size(); ++i) {
     const StepRecord& s = run.steps[i];
-    if (s.t_step <= 0.0 || s.l_step < 0.05 || (i > 0 && s.leg == run.steps[i - 1].leg)) break;
+    if ((i > 0 && s.t_step <= 0.0) || s.l_step < 0.05 || (i > 0 && s.leg == run.steps[i - 1].leg)) {
+      break;
+    }
     m.steps = static_cast<int>(i) + 1;
   }
-  const int n = std::min(window, m.steps);
+  const int n = std::min(window, m.steps - 1);  // never the unmeasured first step
   if (n <= 0) return run;
   double v_min = std::numeric_limits<double>::infinity(), v_max = -v_min;
   double l_min = v_min, l_max = -v_min;
@@ -67,9 +71,8 @@ std::vector<SwingSample> AverageSwingTrajectory(const GaitRun& run, int window, 
   const int steps = run.metrics.steps;
   const int n = std::min(window, steps - 1);
   if (n <= 0 || bins < 2 || run.sim.samples.empty()) return out;
-  const double period = run.sim.samples.size() > 1
-                            ? run.sim.samples[1].t - run.sim.samples[0].t
-                            : 1.0;
+  const double period =
+      run.sim.samples.size() > 1 ? run.sim.samples[1].t - run.sim.samples[0].t : 1.0;
   // The swings of the last n steps: between touchdown k-1 and touchdown k, leg steps[k].leg
   // swings and the other leg stands.
   struct Swing {
@@ -87,8 +90,8 @@ std::vector<SwingSample> AverageSwingTrajectory(const GaitRun& run, int window, 
     Swing swing;
     for (size_t i = first; i < last && i < run.sim.samples.size(); ++i) {
       const SimSample& s = run.sim.samples[i];
-      swing.samples.push_back({s.q[3 + 2 * st], s.q[3 + 2 * sw], s.q[4 + 2 * sw],
-                               s.qd[3 + 2 * sw], s.qd[4 + 2 * sw]});
+      swing.samples.push_back(
+          {s.q[3 + 2 * st], s.q[3 + 2 * sw], s.q[4 + 2 * sw], s.qd[3 + 2 * sw], s.qd[4 + 2 * sw]});
     }
     if (swing.samples.size() < 2) return out;
     double lo = swing.samples.front().e, hi = lo;

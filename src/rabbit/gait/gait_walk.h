@@ -21,15 +21,15 @@ struct GaitSpec {
 
 // Steady-state figures over the last `window` steps of a walk.
 struct GaitMetrics {
-  int steps = 0;            // steps taken before the run ended (or a non-step was seen)
-  bool fell = false;        // the run ended early (fall, trip, divergence)
-  double walked_time = 0.0; // s, until the run ended
-  std::string reason;       // why it ended early
-  double v_m = 0.0;         // mean V_M over the window, m/s
-  double l_step = 0.0;      // mean L_step, m
-  double t_step = 0.0;      // mean t_step, s
-  double l_step_spread = 0.0;  // max - min L_step over the window, m
-  double v_m_spread = 0.0;     // max - min V_M over the window, m/s
+  int steps = 0;                 // steps taken before the run ended (or a non-step was seen)
+  bool fell = false;             // the run ended early (fall, trip, divergence)
+  double walked_time = 0.0;      // s, until the run ended
+  std::string reason;            // why it ended early
+  double v_m = 0.0;              // mean V_M over the window, m/s
+  double l_step = 0.0;           // mean L_step, m
+  double t_step = 0.0;           // mean t_step, s
+  double l_step_spread = 0.0;    // max - min L_step over the window, m
+  double v_m_spread = 0.0;       // max - min V_M over the window, m/s
   double saturation_time = 0.0;  // s, summed over the joints, whole run
 };
 
@@ -45,9 +45,9 @@ GaitRun WalkGait(const SimSetup& setup, const GaitSpec& spec, double duration, i
 
 // One sample of a swing-leg trajectory.
 struct SwingSample {
-  double e = 0.0;                  // stance hip angle q_st1, rad
-  double q1 = 0.0, q2 = 0.0;       // swing hip and knee, rad
-  double qd1 = 0.0, qd2 = 0.0;     // their rates, rad/s
+  double e = 0.0;               // stance hip angle q_st1, rad
+  double q1 = 0.0, q2 = 0.0;    // swing hip and knee, rad
+  double qd1 = 0.0, qd2 = 0.0;  // their rates, rad/s
 };
 
 // The swing-leg trajectory of the last `window` steps of a run, averaged: each step's swing

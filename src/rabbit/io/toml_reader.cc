@@ -93,12 +93,16 @@ double TomlReader::RequiredDouble(const std::string& key) {
   return Double(key, 0.0);
 }
 
-long TomlReader::Integer(const std::string& key, long default_value) {
+long TomlReader::Integer(const std::string& key, long default_value, long min, long max) {
   const toml::node* node = Node(key);
   if (node == nullptr) return default_value;
   const auto* i = node->as_integer();
   if (i == nullptr) Fail(key, "expected an integer");
-  return static_cast<long>(i->get());
+  const auto value = i->get();
+  if (value < min || value > max) {
+    Fail(key, "expected an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]");
+  }
+  return static_cast<long>(value);
 }
 
 bool TomlReader::Bool(const std::string& key, bool default_value) {

@@ -24,7 +24,8 @@ class TomlReader {
   double Double(const std::string& key, double default_value);
   // As Double, and the key must be present.
   double RequiredDouble(const std::string& key);
-  long Integer(const std::string& key, long default_value);
+  // An integer in [min, max] (else an error naming the key and the range).
+  long Integer(const std::string& key, long default_value, long min, long max);
   bool Bool(const std::string& key, bool default_value);
   std::string String(const std::string& key, const std::string& default_value);
   // An array of numbers; size_required > 0 demands exactly that many. Missing: the default.

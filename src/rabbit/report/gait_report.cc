@@ -34,16 +34,15 @@ std::string WriteGaitReport(const std::string& dir, const std::string& out_dir) 
     const GaitRecord gait = ReadGaitFile((fs::path(dir) / entry.file).string());
     const GaitRun run = WalkGait(setup, gait.spec, 20.0, 10);
     const GaitMetrics& m = run.metrics;
-    char row[512];
+    char row[400];
     std::snprintf(row, sizeof row,
-                  "<tr><td>%s</td><td>%.2f</td><td>%.3f</td><td>%.3f</td><td>%.4f</td>"
+                  "<td>%.2f</td><td>%.3f</td><td>%.3f</td><td>%.4f</td>"
                   "<td>%.3f</td><td>%d</td><td>%.2f</td><td>%.1f</td><td>%.1f</td><td>%.1f</td>"
                   "</tr>",
-                  HtmlEscape(gait.name).c_str(), gait.target_v_m, m.v_m, m.l_step,
-                  m.l_step_spread, m.t_step, m.steps, m.saturation_time,
-                  gait.spec.rules.qr1_dsw * kDeg, gait.spec.rules.qi2_dsw * kDeg,
+                  gait.target_v_m, m.v_m, m.l_step, m.l_step_spread, m.t_step, m.steps,
+                  m.saturation_time, gait.spec.rules.qr1_dsw * kDeg, gait.spec.rules.qi2_dsw * kDeg,
                   gait.spec.rules.q0_d * kDeg);
-    html << row;
+    html << "<tr><td>" << HtmlEscape(gait.name) << "</td>" << row;
     // Figure 8: 2.8 s of steady walking (the last 2.8 s of the run), a figure every 0.1 s.
     const double t1 = run.sim.t_end, t0 = t1 - 2.8;
     sections << "<h2>" << HtmlEscape(gait.name) << "</h2>"

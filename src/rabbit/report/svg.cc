@@ -31,11 +31,20 @@ std::string HtmlEscape(const std::string& text) {
   std::string out;
   for (char c : text) {
     switch (c) {
-      case '&': out += "&amp;"; break;
-      case '<': out += "&lt;"; break;
-      case '>': out += "&gt;"; break;
-      case '"': out += "&quot;"; break;
-      default: out += c;
+      case '&':
+        out += "&amp;";
+        break;
+      case '<':
+        out += "&lt;";
+        break;
+      case '>':
+        out += "&gt;";
+        break;
+      case '"':
+        out += "&quot;";
+        break;
+      default:
+        out += c;
     }
   }
   return out;
@@ -73,18 +82,17 @@ std::string StickDiagramSvg(const Model& model, const std::vector<SimSample>& sa
       << "' stroke='#555' stroke-width='2'/>";
   for (const Obstacle& o : terrain.obstacles) {
     svg << "<rect x='" << X(o.x_start) << "' y='" << Y(o.height) << "' width='"
-        << Fmt(o.length * scale) << "' height='" << Fmt(o.height * scale)
-        << "' fill='#888'/>";
+        << Fmt(o.length * scale) << "' height='" << Fmt(o.height * scale) << "' fill='#888'/>";
   }
   for (size_t i = 0; i < frames.size(); ++i) {
     const Pose p = ComputePose(model, frames[i]->q);
     const double shade = frames.size() > 1 ? 0.25 + 0.75 * static_cast<double>(i) /
-                                                       static_cast<double>(frames.size() - 1)
+                                                        static_cast<double>(frames.size() - 1)
                                            : 1.0;
     svg << "<g stroke-width='3' stroke-linecap='round' opacity='" << Fmt(shade) << "'>";
     auto line = [&](const Vec2& a, const Vec2& b, const char* color) {
-      svg << "<line x1='" << X(a.x()) << "' y1='" << Y(a.y()) << "' x2='" << X(b.x())
-          << "' y2='" << Y(b.y()) << "' stroke='" << color << "'/>";
+      svg << "<line x1='" << X(a.x()) << "' y1='" << Y(a.y()) << "' x2='" << X(b.x()) << "' y2='"
+          << Y(b.y()) << "' stroke='" << color << "'/>";
     };
     line(p.hip, p.trunk_top, "#333");
     line(p.hip, p.knee[0], kColors[0]);
@@ -122,21 +130,27 @@ std::string LinePlotSvg(const std::string& title, const std::string& x_label,
       << "' font-family='sans-serif' font-size='12' style='background:#fff'>";
   svg << "<text x='" << W / 2 << "' y='18' text-anchor='middle' font-size='14'>"
       << HtmlEscape(title) << "</text>";
-  svg << "<rect x='" << L << "' y='" << T << "' width='" << W - L - R << "' height='"
-      << H - T - B << "' fill='none' stroke='#333'/>";
+  svg << "<rect x='" << L << "' y='" << T << "' width='" << W - L - R << "' height='" << H - T - B
+      << "' fill='none' stroke='#333'/>";
   const double xs = TickStep(x_hi - x_lo), ys = TickStep(y_hi - y_lo);
-  for (double x = std::ceil(x_lo / xs) * xs; x <= x_hi + 1e-12; x += xs) {
+  // Ticks by count (at most a dozen), so that huge or degenerate ranges cannot loop forever.
+  const double x_first = std::ceil(x_lo / xs) * xs, y_first = std::ceil(y_lo / ys) * ys;
+  for (int i = 0; i < 12; ++i) {
+    const double x = x_first + i * xs;
+    if (!(x <= x_hi + 1e-12 * std::abs(x_hi))) break;
     svg << "<line x1='" << X(x) << "' y1='" << Fmt(H - B) << "' x2='" << X(x) << "' y2='"
         << Fmt(H - B + 5) << "' stroke='#333'/><text x='" << X(x) << "' y='" << Fmt(H - B + 18)
         << "' text-anchor='middle'>" << Fmt(x) << "</text>";
   }
-  for (double y = std::ceil(y_lo / ys) * ys; y <= y_hi + 1e-12; y += ys) {
-    svg << "<line x1='" << Fmt(L - 5) << "' y1='" << Y(y) << "' x2='" << Fmt(L) << "' y2='"
-        << Y(y) << "' stroke='#333'/><text x='" << Fmt(L - 8) << "' y='" << Y(y)
+  for (int i = 0; i < 12; ++i) {
+    const double y = y_first + i * ys;
+    if (!(y <= y_hi + 1e-12 * std::abs(y_hi))) break;
+    svg << "<line x1='" << Fmt(L - 5) << "' y1='" << Y(y) << "' x2='" << Fmt(L) << "' y2='" << Y(y)
+        << "' stroke='#333'/><text x='" << Fmt(L - 8) << "' y='" << Y(y)
         << "' text-anchor='end' dominant-baseline='middle'>" << Fmt(y) << "</text>";
   }
-  svg << "<text x='" << Fmt((L + W - R) / 2) << "' y='" << Fmt(H - 10)
-      << "' text-anchor='middle'>" << HtmlEscape(x_label) << "</text>";
+  svg << "<text x='" << Fmt((L + W - R) / 2) << "' y='" << Fmt(H - 10) << "' text-anchor='middle'>"
+      << HtmlEscape(x_label) << "</text>";
   svg << "<text transform='translate(16," << Fmt((T + H - B) / 2)
       << ") rotate(-90)' text-anchor='middle'>" << HtmlEscape(y_label) << "</text>";
   for (size_t k = 0; k < series.size(); ++k) {
@@ -144,7 +158,8 @@ std::string LinePlotSvg(const std::string& title, const std::string& x_label,
     const char* color = kColors[k % std::size(kColors)];
     svg << "<polyline fill='none' stroke='" << color << "' stroke-width='1.5' points='";
     for (size_t i = 0; i < s.x.size() && i < s.y.size(); ++i) {
-      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i])) svg << X(s.x[i]) << ',' << Y(s.y[i]) << ' ';
+      if (std::isfinite(s.x[i]) && std::isfinite(s.y[i]))
+        svg << X(s.x[i]) << ',' << Y(s.y[i]) << ' ';
     }
     svg << "'/>";
     const double ly = T + 15 + 18.0 * static_cast<double>(k);

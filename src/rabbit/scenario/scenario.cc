@@ -1,7 +1,9 @@
 #include "rabbit/scenario/scenario.h"
 
+#include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <utility>
 
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
@@ -11,6 +13,41 @@ namespace rabbit {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
+constexpr double kMaxControlRate = 1e5;  // Hz
+constexpr double kMaxPeriods = 1e8;      // control periods in one run
+// A foot may start at most this deep in its surface (a computed pose on the ground sinks ~2 mm
+// under load; deeper is a mistake in the scenario).
+constexpr double kMaxInitialPenetration = 0.005;  // m
+constexpr double kMaxInitialSpeed = 20.0;         // m/s or rad/s, any coordinate
+
+// The initial state must be physically sensible: finite, bounded rates, feet not deep in the
+// ground, no link inside an obstacle.
+void ValidateInitialState(const TomlReader& t, const Model& model, const Scenario& s) {
+  if (!s.q0.allFinite() || !s.qd0.allFinite()) t.Fail("", "initial state is not finite");
+  if (s.q0.tail<5>().cwiseAbs().maxCoeff() > 2 * M_PI) t.Fail("", "angles beyond +-360 deg");
+  if (s.qd0.cwiseAbs().maxCoeff() > kMaxInitialSpeed) {
+    t.Fail("", "initial rates beyond 20 m/s or rad/s");
+  }
+  if (std::abs(s.q0[kX]) > 1e3 || s.q0[kY] > 1e3) t.Fail("", "hip position beyond 1 km");
+  const Pose pose = ComputePose(model, s.q0);
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const Vec2& foot = pose.foot[leg];
+    const double depth = s.terrain.HeightAt(foot.x()) - foot.y();
+    if (depth > kMaxInitialPenetration) {
+      t.Fail("", "foot " + std::to_string(leg + 1) + " starts " +
+                     std::to_string(static_cast<int>(std::lround(depth * 1000))) +
+                     " mm below its surface (at most 5 mm)");
+    }
+    for (const auto& [a, b] : {std::pair<Vec2, Vec2>{pose.hip, pose.knee[leg]},
+                               std::pair<Vec2, Vec2>{pose.knee[leg], pose.foot[leg]},
+                               std::pair<Vec2, Vec2>{pose.hip, pose.trunk_top}}) {
+      const int hit = s.terrain.SegmentHitsObstacle(a, b, 0.01);
+      if (hit >= 0) {
+        t.Fail("", "the robot starts inside obstacle " + std::to_string(hit + 1));
+      }
+    }
+  }
+}
 
 void ReadModelFields(TomlReader* t, ModelParams* p) {
   p->trunk_mass = t->Double("trunk_mass", p->trunk_mass);
@@ -87,7 +124,10 @@ void ReadSimulation(TomlReader t, Scenario* s) {
   o.duration = t.RequiredDouble("duration");
   if (o.duration < 0.0) t.Fail("duration", "must be >= 0");
   const double rate = t.Double("control_rate_hz", 1.0 / o.control_period);
-  if (rate <= 0.0) t.Fail("control_rate_hz", "must be > 0");
+  if (!(rate >= 1.0 && rate <= kMaxControlRate)) {
+    t.Fail("control_rate_hz",
+           "must be in [1, " + std::to_string(static_cast<long>(kMaxControlRate)) + "] Hz");
+  }
   o.control_period = 1.0 / rate;
   const std::string integrator = t.String("integrator", IntegratorName(o.integrator.kind));
   if (!ParseIntegratorName(integrator, &o.integrator.kind)) {
@@ -97,13 +137,17 @@ void ReadSimulation(TomlReader t, Scenario* s) {
   o.integrator.rtol = t.Double("rtol", o.integrator.rtol);
   o.integrator.atol = t.Double("atol", o.integrator.atol);
   o.integrator.max_step = t.Double("max_step", o.integrator.max_step);
-  o.integrator.order = static_cast<int>(t.Integer("order", o.integrator.order));
+  o.integrator.order = static_cast<int>(t.Integer("order", o.integrator.order, 0, 12));
   o.contact = t.Bool("contact", o.contact);
   o.restart_at_samples = t.Bool("restart_at_samples", o.restart_at_samples);
-  o.record_every = static_cast<int>(t.Integer("record_every", o.record_every));
+  o.record_every = static_cast<int>(t.Integer("record_every", o.record_every, 0, 1000000));
   if (!t.Bool("gravity", true)) s->model.gravity = 0.0;
   t.Finish();
-  Validate(t, o);
+  if (o.duration / o.control_period > kMaxPeriods) {
+    t.Fail("duration", "too long for the control rate (more than 1e8 control periods)");
+  }
+  std::string error;
+  if (!o.IsValid(&error)) t.Fail("", error);
 }
 
 void ReadFall(TomlReader t, FallCriteria* f) {
@@ -212,6 +256,18 @@ void ReadPragmatic(TomlReader* t, Scenario* s) {
 
 }  // namespace
 
+bool IsSafeName(const std::string& name) {
+  if (name.empty() || name.size() > 100 || name == "." || name.find("..") != std::string::npos) {
+    return false;
+  }
+  for (char c : name) {
+    if (!(std::isalnum(static_cast<unsigned char>(c)) || c == '.' || c == '_' || c == '-')) {
+      return false;
+    }
+  }
+  return true;
+}
+
 ModelParams ReadModelParams(TomlReader* t) {
   ModelParams p;
   const std::string base = t->String("file", "");
@@ -241,6 +297,9 @@ Scenario LoadScenario(const std::string& path) {
   Scenario s;
   s.file = path;
   s.name = root.String("name", std::filesystem::path(path).stem().string());
+  if (!IsSafeName(s.name)) {
+    root.Fail("name", "use letters, digits, '.', '_' and '-' only (it names the output folder)");
+  }
   s.description = root.String("description", "");
   s.expected_outcome = root.String("expect_outcome", "");
   if (!s.expected_outcome.empty() && s.expected_outcome != "completed" &&
@@ -261,10 +320,13 @@ Scenario LoadScenario(const std::string& path) {
     // The walk starts from the documented walking start: [initial] takes no keys.
     TomlReader initial = root.Table("initial");
     initial.Finish();
-    WalkingStartState(Model(s.model), s.walking.rules, s.walking.start_speed,
-                      s.walking.start_angle, 0, &s.q0, &s.qd0);
+    WalkingStartState(Model(s.model), s.walking.rules, s.walking.start_speed, s.walking.start_angle,
+                      0, &s.q0, &s.qd0);
+    ValidateInitialState(initial, Model(s.model), s);
   } else {
-    ReadInitial(root.Table("initial"), Model(s.model), &s);
+    const TomlReader initial = root.Table("initial");
+    ReadInitial(initial, Model(s.model), &s);
+    ValidateInitialState(initial, Model(s.model), s);
     ReadController(controller, &s);
   }
   root.Finish();

@@ -32,7 +32,7 @@ struct Scenario {
   Vec7 qd0 = Vec7::Zero();
   ControllerKind controller = ControllerKind::kPassive;
   PdHoldParams pd_hold;
-  GaitSpec walking;  // kPragmatic: the rules and the documented walking start
+  GaitSpec walking;              // kPragmatic: the rules and the documented walking start
   std::string expected_outcome;  // empty: any outcome passes
 };
 
@@ -46,6 +46,9 @@ ModelParams ReadModelParams(TomlReader* table);
 ModelParams LoadModelFile(const std::string& path);
 
 std::unique_ptr<Controller> MakeController(const Scenario& scenario);
+
+// Names that become file or folder names: letters, digits, '.', '_', '-'; no "..".
+bool IsSafeName(const std::string& name);
 
 // The simulation set-up a scenario describes, on `model` (built from scenario.model; it must
 // outlive the set-up).

@@ -52,8 +52,13 @@ bool IntegratorOptions::IsValid(std::string* error) const {
     *error = "max_step must be >= 0";
     return false;
   }
-  if (order < 0 || order > 12) {
-    *error = "order must be in 0..12";
+  // 0 = the default; otherwise what each method supports.
+  const int max_order =
+      kind == IntegratorKind::kCvodeBdf ? 5 : (kind == IntegratorKind::kCvodeAdams ? 12 : 8);
+  const int min_order = kind == IntegratorKind::kArkodeErk ? 2 : 1;
+  if (order != 0 && (order < min_order || order > max_order)) {
+    *error = std::string("order must be 0 (default) or in ") + std::to_string(min_order) + ".." +
+             std::to_string(max_order) + " for " + IntegratorName(kind);
     return false;
   }
   if (max_steps_per_call <= 0) {

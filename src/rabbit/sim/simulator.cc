@@ -26,8 +26,12 @@ bool SimOptions::IsValid(std::string* error) const {
     *error = "duration must be finite and >= 0";
     return false;
   }
-  if (!(std::isfinite(control_period) && control_period > 0.0 && control_period <= 1.0)) {
-    *error = "control period must be in (0, 1] s";
+  if (!(std::isfinite(control_period) && control_period >= 1e-5 && control_period <= 1.0)) {
+    *error = "control period must be in [1e-5, 1] s";
+    return false;
+  }
+  if (duration / control_period > 1e8) {
+    *error = "more than 1e8 control periods in one run";
     return false;
   }
   if (max_events_per_period <= 0 || record_every < 0) {
@@ -121,7 +125,8 @@ bool CheckState(const SimSetup& setup, const SimSample& s, const Pose& pose, Sim
   if (setup.options.contact) {
     for (int leg = 0; leg < kNumLegs; ++leg) {
       if (terrain.SegmentHitsObstacle(pose.knee[leg], pose.foot[leg], kObstacleTopMargin) >= 0 ||
-          terrain.SegmentHitsObstacle(pose.hip, pose.knee[leg], kObstacleTopMargin) >= 0) {
+          terrain.SegmentHitsObstacle(pose.hip, pose.knee[leg], kObstacleTopMargin) >= 0 ||
+          terrain.SegmentHitsObstacle(pose.hip, pose.trunk_top, 0.0) >= 0) {
         result->outcome = Outcome::kTripped;
         result->reason =
             Describe(leg == 0 ? "leg 1 hit an obstacle" : "leg 2 hit an obstacle", s.t);
@@ -220,7 +225,8 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       OdeIntegrator::Create(opt.integrator, kStateSize, num_roots, Rhs, Roots, &ctx, 0.0, y);
 
   SimResult result;
-  const long num_periods = std::lround(std::ceil(opt.duration / opt.control_period - 1e-9));
+  // The run ends at the last sample at or before `duration`.
+  const long num_periods = std::lround(std::floor(opt.duration / opt.control_period + 1e-9));
   std::vector<int> fired;
   if (opt.record_every > 0) result.samples.reserve(num_periods / opt.record_every + 1);
   Data& sample_data = ctx.data;  // shared with the integrator's callbacks: same q, cached sines
