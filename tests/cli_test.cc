@@ -135,6 +135,26 @@ TEST_F(CliTest, GaitsListSynthesizeAndReport) {
   EXPECT_TRUE(fs::exists(dir_ / "report" / "index.html"));
 }
 
+TEST_F(CliTest, FisEvalAndTrain) {
+  const std::string root = RABBIT_SOURCE_DIR;
+  const CliRun eval = RunCli("fis eval " + root +
+                             "/gaits/gait_pattern.fll --vm 0.55 --dobs 0.2 "
+                             "--e-deg 5 --networks " +
+                             root + "/gaits/networks");
+  EXPECT_EQ(eval.code, 0) << eval.output;
+  EXPECT_NE(eval.output.find("then gait is O5"), std::string::npos) << eval.output;
+  EXPECT_NE(eval.output.find("q_i1"), std::string::npos) << eval.output;
+  const CliRun train =
+      RunCli("train --gaits " + root + "/gaits/reference --out " + (dir_ / "networks").string());
+  EXPECT_EQ(train.code, 0) << train.output;
+  EXPECT_TRUE(fs::exists(dir_ / "networks" / "index.csv"));
+  EXPECT_TRUE(fs::exists(dir_ / "networks" / "vm_0.80_qd_i2.csv"));
+  const std::string bad = Write("bad.fll", "Engine: x\nInputVariable: a\n  term: A Triangle 0 1\n");
+  const CliRun refused = RunCli("fis eval " + bad + " --vm 0.5");
+  EXPECT_EQ(refused.code, 2) << refused.output;
+  EXPECT_NE(refused.output.find(bad), std::string::npos) << refused.output;
+}
+
 TEST_F(CliTest, GaitsBadInputExitsTwo) {
   EXPECT_EQ(RunCli("gaits synthesize --vm -1 -q --dir " + (dir_ / "x").string()).code, 2);
   EXPECT_EQ(RunCli("gaits synthesize").code, 2);

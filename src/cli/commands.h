@@ -17,6 +17,8 @@ struct Command {
 
 Command RegisterSimulate(CLI::App* app);
 Command RegisterGaits(CLI::App* app);
+Command RegisterTrain(CLI::App* app);
+Command RegisterFis(CLI::App* app);
 
 }  // namespace rabbit::cli
 

@@ -11,8 +11,9 @@ int main(int argc, char** argv) {
   CLI::App app{"rabbit-gait: offline design of biped gaits for the RABBIT robot", "rabbit"};
   app.set_version_flag("--version", std::string("rabbit ") + RABBIT_VERSION);
   app.require_subcommand(1);
-  const std::vector<rabbit::cli::Command> commands = {rabbit::cli::RegisterSimulate(&app),
-                                                      rabbit::cli::RegisterGaits(&app)};
+  const std::vector<rabbit::cli::Command> commands = {
+      rabbit::cli::RegisterSimulate(&app), rabbit::cli::RegisterGaits(&app),
+      rabbit::cli::RegisterTrain(&app), rabbit::cli::RegisterFis(&app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -1,0 +1,192 @@
+// rabbit train: CMACs for every reference gait; rabbit fis eval: the gait pattern's fuzzy system.
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <limits>
+#include <memory>
+#include <string>
+
+#include "cli/commands.h"
+#include "cmac_fit.h"
+#include "rabbit/gait/gait_database.h"
+#include "rabbit/learn/cmac_training.h"
+#include "rabbit/learn/fll.h"
+#include "rabbit/learn/gait_pattern.h"
+#include "rabbit/learn/network_io.h"
+
+namespace rabbit::cli {
+namespace {
+
+constexpr double kDeg = M_PI / 180.0;
+
+struct TrainArgs {
+  std::string gaits = "gaits/reference";
+  std::string out = "gaits/networks";
+  std::string method = "ceres";
+  double beta = 0.5;
+  int epochs = 400;
+  double smoothness = 1e-4;
+  double margin_deg = 5.0;
+  bool compare = false;
+};
+
+// Fits one CMAC with the named method; returns seconds taken.
+double Fit(const std::string& method, const TrainArgs& a, const std::vector<double>& x,
+           const std::vector<double>& y, Cmac* cmac) {
+  const auto start = std::chrono::steady_clock::now();
+  if (method == "lms") {
+    LmsOptions lms;
+    lms.beta = a.beta;
+    lms.epochs = a.epochs;
+    TrainCmacLms(x, y, lms, cmac);
+  } else {
+    CmacFitOptions fit;
+    fit.smoothness = a.smoothness;
+    FitCmacCeres(x, y, fit, cmac);
+  }
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+int RunTrain(const TrainArgs& a) {
+  namespace fs = std::filesystem;
+  if (!(a.beta > 0.0 && a.beta <= 1.0) || a.epochs < 1 || !(a.smoothness >= 0.0)) {
+    std::cerr << "rabbit train: need 0 < beta <= 1, epochs >= 1, smoothness >= 0\n";
+    return 2;
+  }
+  const std::vector<GaitIndexEntry> index =
+      ReadGaitIndex((fs::path(a.gaits) / "index.csv").string());
+  std::vector<GaitRecord> gaits;
+  double e_min = std::numeric_limits<double>::infinity(), e_max = -e_min;
+  for (const GaitIndexEntry& entry : index) {
+    gaits.push_back(ReadGaitFile((fs::path(a.gaits) / entry.file).string()));
+    for (const SwingSample& s : gaits.back().swing) {
+      e_min = std::min(e_min, s.e);
+      e_max = std::max(e_max, s.e);
+    }
+  }
+  if (gaits.empty()) {
+    std::cerr << "rabbit train: no gaits in " << a.gaits << "\n";
+    return 2;
+  }
+  // One structure for every CMAC (the chapter's: 6 layers, 1.5 deg fields, 0.25 deg quanta), over
+  // the e range of all the gaits plus a margin.
+  CmacOptions options;
+  options.x_min = e_min - a.margin_deg * kDeg;
+  options.x_max = e_max + a.margin_deg * kDeg;
+  std::vector<NetworkIndexEntry> entries;
+  std::printf("%-8s %-6s %8s %12s %10s", "gait", "output", "method", "RMS", "time ms");
+  if (a.compare) std::printf("   (other method: RMS, time ms)");
+  std::printf("\n");
+  for (const GaitRecord& g : gaits) {
+    std::vector<double> x;
+    std::vector<std::vector<double>> y(kGaitOutputs);
+    for (const SwingSample& s : g.swing) {
+      x.push_back(s.e);
+      y[0].push_back(s.q1);
+      y[1].push_back(s.q2);
+      y[2].push_back(s.qd1);
+      y[3].push_back(s.qd2);
+    }
+    for (int o = 0; o < kGaitOutputs; ++o) {
+      Cmac cmac(options);
+      const double seconds = Fit(a.method, a, x, y[o], &cmac);
+      const double rms = CmacRmsError(cmac, x, y[o]);
+      const bool angle = o < 2;
+      std::printf("%-8s %-6s %8s %9.4f %s %10.2f", g.name.c_str(), kGaitOutputNames[o],
+                  a.method.c_str(), rms / kDeg, angle ? "deg  " : "deg/s", seconds * 1e3);
+      if (a.compare) {
+        const std::string other = a.method == "lms" ? "ceres" : "lms";
+        Cmac check(options);
+        const double other_seconds = Fit(other, a, x, y[o], &check);
+        std::printf("   (%s: %.4f, %.2f)", other.c_str(), CmacRmsError(check, x, y[o]) / kDeg,
+                    other_seconds * 1e3);
+      }
+      std::printf("\n");
+      const std::string file = g.name + "_" + kGaitOutputNames[o] + ".csv";
+      WriteCmacFile(cmac,
+                    {{"gait", g.name},
+                     {"output", kGaitOutputNames[o]},
+                     {"method", a.method},
+                     {"training_rms", std::to_string(rms)}},
+                    (fs::path(a.out) / file).string());
+      entries.push_back({g.name, kGaitOutputNames[o], file, a.method, rms,
+                         static_cast<int>(cmac.weights().size())});
+    }
+  }
+  WriteNetworkIndex(entries, (fs::path(a.out) / "index.csv").string());
+  std::printf("wrote %zu networks to %s\n", entries.size(), a.out.c_str());
+  return 0;
+}
+
+struct FisArgs {
+  std::string fll = "gaits/gait_pattern.fll";
+  std::string networks = "gaits/networks";
+  double v_m = 0.0, d_obs = 1.0, e = 0.0;
+  bool has_e = false;
+};
+
+int RunFisEval(const FisArgs& a) {
+  const TsFis fis = LoadFll(a.fll);
+  TsFis::Result result;
+  fis.Evaluate({a.v_m, a.d_obs}, &result);
+  std::printf("X = [V_M %.3f m/s, d_obs %.3f m]%s\n", a.v_m, a.d_obs,
+              result.fired ? "" : ": no rule fires (output = the default)");
+  for (size_t r = 0; r < fis.rules.size(); ++r) {
+    if (result.activation[r] <= 0.0) continue;
+    const FuzzyRule& rule = fis.rules[r];
+    std::printf("  rule %2zu: if", r + 1);
+    for (size_t i = 0; i < fis.inputs.size(); ++i) {
+      std::printf("%s %s is %s", i ? " and" : "", fis.inputs[i].name.c_str(),
+                  fis.inputs[i].sets[rule.antecedent[i]].name.c_str());
+    }
+    std::printf(" then %s is %s   u = %.4f\n", fis.output_name.c_str(),
+                fis.output_terms[rule.consequent].c_str(), result.activation[r]);
+  }
+  std::printf("  output %s = %.4f\n", fis.output_name.c_str(), result.output);
+  if (a.has_e) {
+    FuzzyCmac pattern(fis, LoadGaitNetworks(a.networks, nullptr));
+    pattern.SetContext(a.v_m, a.d_obs);
+    const Eigen::Vector4d y = pattern.Query(a.e * kDeg);
+    std::printf(
+        "  e = %.3f deg: q_i1 %.3f deg, q_i2 %.3f deg, qd_i1 %.3f deg/s, qd_i2 %.3f deg/s\n",
+        a.e / kDeg, y[0] / kDeg, y[1] / kDeg, y[2] / kDeg, y[3] / kDeg);
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command RegisterTrain(CLI::App* app) {
+  auto a = std::make_shared<TrainArgs>();
+  CLI::App* cmd = app->add_subcommand("train", "Train the CMACs of every reference gait");
+  cmd->add_option("--gaits", a->gaits, "Gait database directory");
+  cmd->add_option("--out", a->out, "Networks directory");
+  cmd->add_option("--method", a->method, "ceres (sparse least squares) or lms (eq. 7)")
+      ->check(CLI::IsMember({"ceres", "lms"}));
+  cmd->add_option("--beta", a->beta, "LMS learning rate (0, 1]");
+  cmd->add_option("--epochs", a->epochs, "LMS passes over the samples");
+  cmd->add_option("--smoothness", a->smoothness, "Ceres: neighbour-difference weight");
+  cmd->add_flag("--compare", a->compare, "Also fit with the other method and print its RMS/time");
+  return {cmd, [a] { return RunTrain(*a); }};
+}
+
+Command RegisterFis(CLI::App* app) {
+  CLI::App* fis = app->add_subcommand("fis", "The gait pattern's fuzzy system");
+  fis->require_subcommand(1);
+  auto a = std::make_shared<FisArgs>();
+  CLI::App* eval = fis->add_subcommand("eval", "Rule activations at X = [V_M, d_obs]");
+  eval->add_option("fll", a->fll, "FLL file (default gaits/gait_pattern.fll)");
+  eval->add_option("--vm", a->v_m, "Average velocity V_M, m/s")->required();
+  eval->add_option("--dobs", a->d_obs, "Distance to the next obstacle, m (1 = none)");
+  CLI::Option* e =
+      eval->add_option("--e-deg", a->e, "Stance hip angle e, deg: print the merged references");
+  eval->add_option("--networks", a->networks, "Networks directory (with --e)");
+  return {fis, [a, e] {
+            a->has_e = e->count() > 0;
+            return RunFisEval(*a);
+          }};
+}
+
+}  // namespace rabbit::cli

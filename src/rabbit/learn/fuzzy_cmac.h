@@ -1,0 +1,51 @@
+// The Fuzzy-CMAC gait pattern (chapter sections 3.3 and 5.1, eqs. 12-13): N_r reference gaits,
+// each learnt by four SISO CMACs O_1..O_4 = q_i1, q_i2, qd_i1, qd_i2 of the swing leg as functions
+// of e (the stance hip angle), merged by a zero-order TS fuzzy system over X = [V_M, d_obs]:
+//   Y(e) = sum_rules u_bar_r O^{k(r)}(e) = sum_k w_k O^k(e),  w_k = sum of u_bar over rules -> k.
+// The FIS is evaluated once per step (SetContext) and held; Query(e) runs every control period.
+#ifndef RABBIT_LEARN_FUZZY_CMAC_H_
+#define RABBIT_LEARN_FUZZY_CMAC_H_
+
+#include <Eigen/Core>
+#include <array>
+#include <vector>
+
+#include "rabbit/learn/cmac.h"
+#include "rabbit/learn/ts_fis.h"
+
+namespace rabbit {
+
+constexpr int kGaitOutputs = 4;       // q_i1, q_i2, qd_i1, qd_i2
+using GaitCmacs = std::vector<Cmac>;  // kGaitOutputs CMACs of one reference gait
+
+class FuzzyCmac {
+ public:
+  // The FIS has the inputs V_M and d_obs (by name, in any order). networks[k] serves the FIS
+  // output value k + 1 (O^{k+1}); all CMACs must share one structure
+  // (CmacOptions) so that the active detectors are computed once per query. Throws
+  // std::invalid_argument when the pieces do not fit together.
+  FuzzyCmac(TsFis fis, std::vector<GaitCmacs> networks);
+
+  // Evaluates the FIS at X = [v_m, d_obs] and keeps the per-gait weights w_k. Returns false (and
+  // keeps the previous weights) when no rule fires.
+  bool SetContext(double v_m, double d_obs);
+  // The four swing-leg references at e with the current weights (eq. 13).
+  Eigen::Vector4d Query(double e) const;
+
+  const TsFis& fis() const { return fis_; }
+  const TsFis::Result& rule_activations() const { return result_; }
+  const std::vector<double>& gait_weights() const { return weights_; }
+  std::size_t MemoryBytes() const;
+
+ private:
+  TsFis fis_;
+  std::vector<GaitCmacs> networks_;
+  TsFis::Result result_;
+  std::vector<double> weights_;          // per reference gait
+  std::vector<double> x_;                // FIS input scratch
+  int v_m_input_ = 0, d_obs_input_ = 1;  // positions of V_M and d_obs among the FIS inputs
+};
+
+}  // namespace rabbit
+
+#endif  // RABBIT_LEARN_FUZZY_CMAC_H_

@@ -1,0 +1,80 @@
+// The Fuzzy-CMAC gait pattern (eqs. 12-13) assembled from the shipped networks and FLL: its
+// output equals the activation-weighted sum of the reference gaits' CMAC outputs computed
+// independently, it reproduces each reference gait where one rule fires, and mismatched pieces are
+// refused.
+#include "rabbit/learn/fuzzy_cmac.h"
+
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "rabbit/gait/gait_database.h"
+#include "rabbit/learn/fll.h"
+#include "rabbit/learn/gait_pattern.h"
+
+namespace rabbit {
+namespace {
+
+const std::string kRoot = RABBIT_SOURCE_DIR;
+
+TEST(FuzzyCmacTest, EqualsActivationWeightedSumOfCmacOutputs) {
+  const TsFis fis = LoadFll(kRoot + "/gaits/gait_pattern.fll");
+  const std::vector<GaitCmacs> networks = LoadGaitNetworks(kRoot + "/gaits/networks", nullptr);
+  FuzzyCmac pattern(fis, networks);
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<double> v(0.3, 0.9), d(0.0, 0.8), e(-0.1, 0.5);
+  const double kTolerance = 1e-12;
+  for (int n = 0; n < 2000; ++n) {
+    const double vm = v(rng), dobs = d(rng), x = e(rng);
+    ASSERT_TRUE(pattern.SetContext(vm, dobs));
+    TsFis::Result r;
+    fis.Evaluate({vm, dobs}, &r);
+    Eigen::Vector4d expected = Eigen::Vector4d::Zero();
+    for (size_t rule = 0; rule < fis.rules.size(); ++rule) {
+      const int k = static_cast<int>(fis.output_values[fis.rules[rule].consequent]) - 1;
+      for (int o = 0; o < kGaitOutputs; ++o) {
+        expected[o] += r.activation[rule] * networks[k][o].Query(x);
+      }
+    }
+    EXPECT_LE((pattern.Query(x) - expected).cwiseAbs().maxCoeff(),
+              kTolerance * (1.0 + expected.cwiseAbs().maxCoeff()));
+  }
+}
+
+TEST(FuzzyCmacTest, ReproducesEachReferenceGaitAtItsVelocity) {
+  // No obstacle and V_M at a gait's own velocity: one rule fires and the pattern is that gait's
+  // trained CMACs, which fit its stored swing trajectory.
+  FuzzyCmac pattern = LoadGaitPattern(kRoot + "/gaits/gait_pattern.fll", kRoot + "/gaits/networks");
+  const std::vector<GaitIndexEntry> index = ReadGaitIndex(kRoot + "/gaits/reference/index.csv");
+  for (size_t k = 0; k < index.size(); ++k) {
+    SCOPED_TRACE(index[k].name);
+    ASSERT_TRUE(pattern.SetContext(index[k].measured_v_m, 1.0));
+    EXPECT_NEAR(pattern.gait_weights()[k], 1.0, 1e-9);
+    const GaitRecord gait = ReadGaitFile(kRoot + "/gaits/reference/" + index[k].file);
+    double sum = 0.0;
+    for (const SwingSample& s : gait.swing) {
+      const Eigen::Vector4d y = pattern.Query(s.e);
+      sum += (y[0] - s.q1) * (y[0] - s.q1);
+    }
+    const double rms_deg = std::sqrt(sum / static_cast<double>(gait.swing.size())) * 180.0 / M_PI;
+    EXPECT_LT(rms_deg, 1.0);  // the steep hip pulse of vm_0.40 is the worst, see README
+  }
+}
+
+TEST(FuzzyCmacTest, MismatchedPiecesAreRefused) {
+  const TsFis fis = LoadFll(kRoot + "/gaits/gait_pattern.fll");
+  std::vector<GaitCmacs> networks = LoadGaitNetworks(kRoot + "/gaits/networks", nullptr);
+  std::vector<GaitCmacs> four(networks.begin(), networks.begin() + 4);
+  EXPECT_THROW(FuzzyCmac(fis, four), std::invalid_argument);  // rules name O5
+  std::vector<GaitCmacs> short_gait = networks;
+  short_gait[2].pop_back();
+  EXPECT_THROW(FuzzyCmac(fis, short_gait), std::invalid_argument);
+  CmacOptions other = networks[0][0].options();
+  other.x_max += 0.1;
+  std::vector<GaitCmacs> mixed = networks;
+  mixed[1][0] = Cmac(other);
+  EXPECT_THROW(FuzzyCmac(fis, mixed), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rabbit
