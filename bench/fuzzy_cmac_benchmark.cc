@@ -86,14 +86,9 @@ void Train(benchmark::State& state, bool ceres) {
   options.x_max = 0.7;
   for (auto _ : state) {
     for (const GaitRecord& g : gaits) {
-      std::vector<double> x, y[kGaitOutputs];
-      for (const SwingSample& s : g.swing) {
-        x.push_back(s.e);
-        y[0].push_back(s.q1);
-        y[1].push_back(s.q2);
-        y[2].push_back(s.qd1);
-        y[3].push_back(s.qd2);
-      }
+      std::vector<double> x;
+      std::array<std::vector<double>, kGaitOutputs> y;
+      SplitSwing(g.swing, &x, &y);
       for (int o = 0; o < kGaitOutputs; ++o) {
         Cmac cmac(options);
         if (ceres) {

@@ -81,14 +81,8 @@ int RunTrain(const TrainArgs& a) {
   std::printf("\n");
   for (const GaitRecord& g : gaits) {
     std::vector<double> x;
-    std::vector<std::vector<double>> y(kGaitOutputs);
-    for (const SwingSample& s : g.swing) {
-      x.push_back(s.e);
-      y[0].push_back(s.q1);
-      y[1].push_back(s.q2);
-      y[2].push_back(s.qd1);
-      y[3].push_back(s.qd2);
-    }
+    std::array<std::vector<double>, kGaitOutputs> y;
+    SplitSwing(g.swing, &x, &y);
     for (int o = 0; o < kGaitOutputs; ++o) {
       Cmac cmac(options);
       const double seconds = Fit(a.method, a, x, y[o], &cmac);

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/csv.h"
 #include "rabbit/io/error.h"
 
 namespace rabbit {
@@ -17,39 +18,6 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 const char* const kColumns[] = {"e_rad", "q_i1_rad", "q_i2_rad", "qd_i1_rad_s", "qd_i2_rad_s"};
-
-std::string Trim(const std::string& s) {
-  const size_t a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  const size_t b = s.find_last_not_of(" \t\r");
-  return s.substr(a, b - a + 1);
-}
-
-std::vector<std::string> SplitCsv(const std::string& line) {
-  std::vector<std::string> out;
-  std::stringstream ss(line);
-  std::string cell;
-  while (std::getline(ss, cell, ',')) out.push_back(Trim(cell));
-  if (!line.empty() && line.back() == ',') out.push_back("");
-  return out;
-}
-
-// A finite number, all of the cell; else an InputError at file:line naming what.
-double ParseNumber(const std::string& text, const std::string& file, int line,
-                   const std::string& what) {
-  size_t used = 0;
-  double value = 0.0;
-  try {
-    value = std::stod(text, &used);
-  } catch (const std::exception&) {
-    throw InputError(file, line, what, "expected a number, got \"" + text + "\"");
-  }
-  if (used != text.size()) {
-    throw InputError(file, line, what, "expected a number, got \"" + text + "\"");
-  }
-  if (!std::isfinite(value)) throw InputError(file, line, what, "expected a finite number");
-  return value;
-}
 
 // The gait's metadata as ordered key/value pairs (angles in degrees at the edge).
 std::vector<std::pair<std::string, double>> NumericMetadata(const GaitRecord& g) {
@@ -169,7 +137,7 @@ GaitRecord ReadGaitFile(const std::string& path) {
     }
     double v[5];
     for (size_t c = 0; c < std::size(kColumns); ++c) {
-      v[c] = ParseNumber(cells[column_of[c]], path, number, kColumns[c]);
+      v[c] = ParseFiniteNumber(cells[column_of[c]], path, number, kColumns[c]);
       // Angles within a turn, rates within 100 rad/s: anything else is not a gait.
       const double bound = c < 3 ? 2 * M_PI : 100.0;
       if (std::abs(v[c]) > bound) {
@@ -188,7 +156,7 @@ GaitRecord ReadGaitFile(const std::string& path) {
   auto number_of = [&](const std::string& key) {
     const auto it = meta.find(key);
     if (it == meta.end()) throw InputError(path, 0, key, "missing metadata '# " + key + " = ...'");
-    return ParseNumber(it->second.first, path, it->second.second, key);
+    return ParseFiniteNumber(it->second.first, path, it->second.second, key);
   };
   auto count_of = [&](const std::string& key, double max) {
     const double v = number_of(key);
@@ -262,11 +230,11 @@ std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
     GaitIndexEntry e;
     e.name = c[0];
     e.file = c[1];
-    e.target_v_m = ParseNumber(c[2], path, number, "target_v_m");
-    e.measured_v_m = ParseNumber(c[3], path, number, "measured_v_m");
-    e.l_step = ParseNumber(c[4], path, number, "l_step_m");
-    e.t_step = ParseNumber(c[5], path, number, "t_step_s");
-    const double steps = ParseNumber(c[6], path, number, "steps");
+    e.target_v_m = ParseFiniteNumber(c[2], path, number, "target_v_m");
+    e.measured_v_m = ParseFiniteNumber(c[3], path, number, "measured_v_m");
+    e.l_step = ParseFiniteNumber(c[4], path, number, "l_step_m");
+    e.t_step = ParseFiniteNumber(c[5], path, number, "t_step_s");
+    const double steps = ParseFiniteNumber(c[6], path, number, "steps");
     if (!(steps >= 0.0 && steps <= 1e6)) throw InputError(path, number, "steps", "out of range");
     e.steps = static_cast<int>(steps);
     e.source = c[7];

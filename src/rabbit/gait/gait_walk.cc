@@ -127,4 +127,17 @@ std::vector<SwingSample> AverageSwingTrajectory(const GaitRun& run, int window, 
   return out;
 }
 
+void SplitSwing(const std::vector<SwingSample>& swing, std::vector<double>* e,
+                std::array<std::vector<double>, 4>* outputs) {
+  e->clear();
+  for (std::vector<double>& o : *outputs) o.clear();
+  for (const SwingSample& s : swing) {
+    e->push_back(s.e);
+    (*outputs)[0].push_back(s.q1);
+    (*outputs)[1].push_back(s.q2);
+    (*outputs)[2].push_back(s.qd1);
+    (*outputs)[3].push_back(s.qd2);
+  }
+}
+
 }  // namespace rabbit

@@ -3,6 +3,7 @@
 #ifndef RABBIT_GAIT_GAIT_WALK_H_
 #define RABBIT_GAIT_GAIT_WALK_H_
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -55,6 +56,10 @@ struct SwingSample {
 // swings cover, and the steps are averaged. Returned sorted by e (ascending). Needs the run's
 // samples at every control period.
 std::vector<SwingSample> AverageSwingTrajectory(const GaitRun& run, int window, int bins);
+
+// A swing trajectory as training data: the inputs e and the four outputs q1, q2, qd1, qd2.
+void SplitSwing(const std::vector<SwingSample>& swing, std::vector<double>* e,
+                std::array<std::vector<double>, 4>* outputs);
 
 }  // namespace rabbit
 

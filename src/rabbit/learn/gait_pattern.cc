@@ -7,6 +7,7 @@
 #include <sstream>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/csv.h"
 #include "rabbit/io/error.h"
 #include "rabbit/learn/fll.h"
 #include "rabbit/learn/network_io.h"
@@ -24,21 +25,18 @@ std::vector<NetworkIndexEntry> ReadNetworkIndex(const std::string& path) {
   while (std::getline(in, line)) {
     ++number;
     if (number == 1 || line.empty()) continue;
-    std::vector<std::string> c;
-    std::stringstream ss(line);
-    for (std::string cell; std::getline(ss, cell, ',');) c.push_back(cell);
+    const std::vector<std::string> c = SplitCsv(line);
     if (c.size() != 6) throw InputError(path, number, "", "expected 6 cells");
     NetworkIndexEntry e;
     e.gait = c[0];
     e.output = c[1];
     e.file = c[2];
     e.method = c[3];
-    try {
-      e.rms = std::stod(c[4]);
-      e.weights = std::stoi(c[5]);
-    } catch (const std::exception&) {
-      throw InputError(path, number, "", "rms and weights must be numbers");
-    }
+    e.rms = ParseFiniteNumber(c[4], path, number, "rms");
+    const double weights = ParseFiniteNumber(c[5], path, number, "weights");
+    if (!(weights >= 0.0 && weights <= 1e9))
+      throw InputError(path, number, "weights", "out of range");
+    e.weights = static_cast<int>(weights);
     out.push_back(e);
   }
   return out;

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/csv.h"
 #include "rabbit/io/error.h"
 
 namespace rabbit {
@@ -30,43 +31,11 @@ bool IsStructureKey(const std::string& key) {
   return false;
 }
 
-std::string Trim(const std::string& s) {
-  const size_t a = s.find_first_not_of(" \t\r");
-  if (a == std::string::npos) return "";
-  const size_t b = s.find_last_not_of(" \t\r");
-  return s.substr(a, b - a + 1);
-}
-
-std::vector<std::string> SplitCsv(const std::string& line) {
-  std::vector<std::string> out;
-  size_t start = 0;
-  while (true) {
-    const size_t comma = line.find(',', start);
-    out.push_back(Trim(line.substr(start, comma - start)));
-    if (comma == std::string::npos) return out;
-    start = comma + 1;
-  }
-}
-
 // Shortest text that reads back to the same double.
 std::string FormatDouble(double value) {
   char buffer[32];
   const std::to_chars_result r = std::to_chars(buffer, buffer + sizeof buffer, value);
   return std::string(buffer, r.ptr);
-}
-
-double ParseDouble(const std::string& text, const std::string& file, int line,
-                   const std::string& key) {
-  double value = 0.0;
-  const char* end = text.data() + text.size();
-  const std::from_chars_result r = std::from_chars(text.data(), end, value);
-  if (text.empty() || r.ec != std::errc() || r.ptr != end) {
-    throw InputError(file, line, key, "expected a number, got \"" + text + "\"");
-  }
-  if (!std::isfinite(value)) {
-    throw InputError(file, line, key, "expected a finite number, got \"" + text + "\"");
-  }
-  return value;
 }
 
 template <typename Int>
@@ -172,7 +141,7 @@ Cmac ReadCmacFile(const std::string& path, std::map<std::string, std::string>* m
           "must be in [1, " + std::to_string(kMaxCmacLayers) + "], got " + layers.value);
     }
     const Entry& quantum = entry("quantum_rad");
-    options.quantum = ParseDouble(quantum.value, path, quantum.line, "quantum_rad");
+    options.quantum = ParseFiniteNumber(quantum.value, path, quantum.line, "quantum_rad");
     if (!(options.quantum > 0.0)) {
       throw InputError(path, quantum.line, "quantum_rad", "must be > 0, got " + quantum.value);
     }
@@ -186,9 +155,9 @@ Cmac ReadCmacFile(const std::string& path, std::map<std::string, std::string>* m
                        "must be <= width (" + width.value + "), got " + layers.value);
     }
     const Entry& x_min = entry("x_min");
-    options.x_min = ParseDouble(x_min.value, path, x_min.line, "x_min");
+    options.x_min = ParseFiniteNumber(x_min.value, path, x_min.line, "x_min");
     const Entry& x_max = entry("x_max");
-    options.x_max = ParseDouble(x_max.value, path, x_max.line, "x_max");
+    options.x_max = ParseFiniteNumber(x_max.value, path, x_max.line, "x_max");
     if (!(options.x_min < options.x_max)) {
       throw InputError(path, x_max.line, "x_max",
                        "must be > x_min (" + x_min.value + "), got " + x_max.value);
@@ -245,7 +214,7 @@ Cmac ReadCmacFile(const std::string& path, std::map<std::string, std::string>* m
       throw InputError(path, number, "index",
                        "expected index " + std::to_string(rows) + ", got " + cells[0]);
     }
-    const double weight = ParseDouble(cells[1], path, number, "weight");
+    const double weight = ParseFiniteNumber(cells[1], path, number, "weight");
     if (rows < expected) {
       (*cmac->mutable_weights())[rows] = weight;
     } else if (first_extra_line == 0) {

@@ -1,0 +1,43 @@
+#include "rabbit/io/csv.h"
+
+#include <charconv>
+#include <cmath>
+#include <system_error>
+
+#include "rabbit/io/error.h"
+
+namespace rabbit {
+
+std::string Trim(const std::string& s) {
+  const size_t a = s.find_first_not_of(" \t\r");
+  if (a == std::string::npos) return "";
+  const size_t b = s.find_last_not_of(" \t\r");
+  return s.substr(a, b - a + 1);
+}
+
+std::vector<std::string> SplitCsv(const std::string& line) {
+  std::vector<std::string> out;
+  size_t start = 0;
+  while (true) {
+    const size_t comma = line.find(',', start);
+    out.push_back(Trim(line.substr(start, comma - start)));
+    if (comma == std::string::npos) return out;
+    start = comma + 1;
+  }
+}
+
+double ParseFiniteNumber(const std::string& text, const std::string& file, int line,
+                         const std::string& key) {
+  double value = 0.0;
+  const char* end = text.data() + text.size();
+  const std::from_chars_result r = std::from_chars(text.data(), end, value);
+  if (text.empty() || r.ec != std::errc() || r.ptr != end) {
+    throw InputError(file, line, key, "expected a number, got \"" + text + "\"");
+  }
+  if (!std::isfinite(value)) {
+    throw InputError(file, line, key, "expected a finite number, got \"" + text + "\"");
+  }
+  return value;
+}
+
+}  // namespace rabbit

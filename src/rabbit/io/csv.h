@@ -1,0 +1,21 @@
+// Small CSV helpers shared by the project's readers: trimming, splitting a row, and strict number
+// parsing that throws InputError naming the file, line and column or key.
+#ifndef RABBIT_IO_CSV_H_
+#define RABBIT_IO_CSV_H_
+
+#include <string>
+#include <vector>
+
+namespace rabbit {
+
+// s without leading and trailing blanks (space, tab, carriage return).
+std::string Trim(const std::string& s);
+// The comma-separated cells of a row, trimmed; a trailing comma gives a last empty cell.
+std::vector<std::string> SplitCsv(const std::string& line);
+// The whole of text as a finite double; else InputError(file, line, key, ...).
+double ParseFiniteNumber(const std::string& text, const std::string& file, int line,
+                         const std::string& key);
+
+}  // namespace rabbit
+
+#endif  // RABBIT_IO_CSV_H_
