@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <set>
+#include <stdexcept>
 #include <utility>
 
 #include "rabbit/learn/cmac_training.h"
@@ -75,6 +76,9 @@ bool CmacFitOptions::IsValid(std::string* error) const {
 CmacFitSummary FitCmacCeres(const std::vector<double>& x, const std::vector<double>& y,
                             const CmacFitOptions& options, Cmac* cmac) {
   const auto start = std::chrono::steady_clock::now();
+  std::string error;
+  if (!options.IsValid(&error)) throw std::invalid_argument("CMAC fit: " + error);
+  if (x.size() != y.size()) throw std::invalid_argument("CMAC fit: x and y differ in size");
   std::vector<double>& w = *cmac->mutable_weights();
   const int layers = cmac->options().layers;
   ceres::Problem::Options problem_options;
@@ -83,6 +87,7 @@ CmacFitSummary FitCmacCeres(const std::vector<double>& x, const std::vector<doub
   CmacActive active;
   for (size_t i = 0; i < x.size(); ++i) {
     cmac->Active(x[i], &active);
+    if (active.count == 0 || !std::isfinite(y[i])) continue;  // NaN sample: nothing to fit
     std::vector<double*> blocks;
     std::vector<double> coefficients;
     for (int j = 0; j < layers; ++j) {
@@ -97,17 +102,13 @@ CmacFitSummary FitCmacCeres(const std::vector<double>& x, const std::vector<doub
     }
     problem.AddResidualBlock(new SampleResidual(std::move(coefficients), y[i]), nullptr, blocks);
   }
-  // Neighbouring detectors of each layer: the active ones one detector width apart.
+  // Neighbouring detectors of each layer (d and d + 1), by address; a pair that hashing put on
+  // one weight has nothing to smooth.
   if (options.smoothness > 0.0) {
-    const CmacOptions& o = cmac->options();
     std::set<std::pair<int, int>> pairs;
-    CmacActive next;
-    const double step = o.width * o.quantum;
-    for (double u = o.x_min; u + step <= o.x_max + 1e-12; u += o.quantum) {
-      cmac->Active(u, &active);
-      cmac->Active(u + step, &next);
-      for (int j = 0; j < layers; ++j) {
-        const int a = active.index[j], b = next.index[j];
+    for (int j = 0; j < layers; ++j) {
+      for (int d = 0; d + 1 < cmac->NumDetectorsInLayer(j); ++d) {
+        const int a = cmac->Address(j, d), b = cmac->Address(j, d + 1);
         if (a != b) pairs.insert({std::min(a, b), std::max(a, b)});
       }
     }
@@ -132,6 +133,12 @@ CmacFitSummary FitCmacCeres(const std::vector<double>& x, const std::vector<doub
   solver.logging_type = ceres::SILENT;
   ceres::Solver::Summary summary;
   ceres::Solve(solver, &problem, &summary);
+  if (!summary.IsSolutionUsable()) {
+    throw std::runtime_error("CMAC fit failed: " + summary.BriefReport());
+  }
+  for (double weight : w) {
+    if (!std::isfinite(weight)) throw std::runtime_error("CMAC fit produced non-finite weights");
+  }
   CmacFitSummary result;
   result.rms = CmacRmsError(*cmac, x, y);
   result.brief = summary.BriefReport();

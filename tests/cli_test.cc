@@ -155,6 +155,49 @@ TEST_F(CliTest, FisEvalAndTrain) {
   EXPECT_NE(refused.output.find(bad), std::string::npos) << refused.output;
 }
 
+TEST_F(CliTest, FisEvalReadsInputsByNameAndRefusesBadValues) {
+  const std::string root = RABBIT_SOURCE_DIR;
+  // The shipped FLL with its two input blocks swapped: the same answer.
+  std::ifstream in(root + "/gaits/gait_pattern.fll");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string fll = text.str();
+  const size_t v = fll.find("InputVariable: V_M"), d = fll.find("InputVariable: d_obs");
+  const size_t end = fll.find("OutputVariable:");
+  ASSERT_TRUE(v < d && d < end);
+  const std::string swapped =
+      fll.substr(0, v) + fll.substr(d, end - d) + fll.substr(v, d - v) + fll.substr(end);
+  const std::string path = Write("swapped.fll", swapped);
+  const CliRun a = RunCli("fis eval " + root + "/gaits/gait_pattern.fll --vm 0.6 --dobs 1");
+  const CliRun b = RunCli("fis eval " + path + " --vm 0.6 --dobs 1");
+  ASSERT_EQ(a.code, 0) << a.output;
+  ASSERT_EQ(b.code, 0) << b.output;
+  EXPECT_EQ(a.output.substr(a.output.find("output gait")),
+            b.output.substr(b.output.find("output gait")));
+  EXPECT_EQ(RunCli("fis eval --vm nan").code, 2);
+  EXPECT_EQ(RunCli("fis eval --vm 0.5 --dobs -1").code, 2);
+}
+
+TEST_F(CliTest, TrainRefusesUnsafeGaitNamesAndWritesNothing) {
+  const std::string root = RABBIT_SOURCE_DIR;
+  fs::create_directories(dir_ / "g");
+  fs::copy_file(root + "/gaits/reference/vm_0.60.csv", dir_ / "g" / "vm_0.60.csv");
+  std::ifstream in(dir_ / "g" / "vm_0.60.csv");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string gait = text.str();
+  gait.replace(gait.find("# name = vm_0.60"), 16, "# name = ../../escape");
+  std::ofstream(dir_ / "g" / "vm_0.60.csv") << gait;
+  std::ofstream(dir_ / "g" / "index.csv")
+      << "name,file,target_v_m,measured_v_m,l_step_m,t_step_s,steps,source\n"
+      << "vm_0.60,vm_0.60.csv,0.6,0.58,0.35,0.6,32,test\n";
+  const CliRun run =
+      RunCli("train --gaits " + (dir_ / "g").string() + " --out " + (dir_ / "nets").string());
+  EXPECT_EQ(run.code, 2) << run.output;
+  EXPECT_FALSE(fs::exists(dir_ / "nets"));
+  EXPECT_FALSE(fs::exists(dir_.parent_path() / "escape_q_i1.csv"));
+}
+
 TEST_F(CliTest, GaitsBadInputExitsTwo) {
   EXPECT_EQ(RunCli("gaits synthesize --vm -1 -q --dir " + (dir_ / "x").string()).code, 2);
   EXPECT_EQ(RunCli("gaits synthesize").code, 2);

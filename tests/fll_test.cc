@@ -388,6 +388,27 @@ void ExpectRefused(const Refusal& refusal, const std::string& key, const std::st
   }
 }
 
+TEST(FllTest, LongMalformedFileIsLocatedQuickly) {
+  // Locating the failing line takes O(log n) imports: 4000 rule lines and a bad conjunction below
+  // them come back at once (a prefix-by-prefix search took minutes).
+  std::ifstream in(std::string(RABBIT_SOURCE_DIR) + "/gaits/gait_pattern.fll");
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string fll = text.str();
+  const std::string rule = "  rule: if V_M is Small and d_obs is VeryBig then gait is O2\n";
+  std::string many;
+  for (int i = 0; i < 4000; ++i) many += rule;
+  fll += many + "  conjunction: Bogus\n";
+  int lines = 0;
+  for (char c : fll) lines += c == '\n';
+  try {
+    ParseFll(fll, "long.fll");
+    ADD_FAILURE() << "accepted a bogus conjunction";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), lines) << e.what();
+  }
+}
+
 TEST(FllTest, MalformedFllIsRefusedAtItsLine) {
   ExpectRefused(Tampered("InputVariable: d_obs", "InputVariable d_obs"), "",
                 "malformed FLL: [import error] expected a colon here: InputVariable d_obs");

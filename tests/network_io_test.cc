@@ -213,6 +213,30 @@ TEST_F(NetworkIoTest, RefusesNonNumbers) {
   }
 }
 
+TEST_F(NetworkIoTest, RefusesHugeWeightsAndHugeTables) {
+  Cmac cmac(CmacOptions{});
+  const std::string path = (dir_ / "w.csv").string();
+  WriteCmacFile(cmac, {}, path);
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  std::string s = text.str();
+  const size_t row = s.find("\n0,");
+  ASSERT_NE(row, std::string::npos);
+  s.replace(row, 3, "\n0,1e300\n0,");  // first weight 1e300 (the old row follows, then refused)
+  std::ofstream(path) << s;
+  try {
+    ReadCmacFile(path, nullptr);
+    ADD_FAILURE() << "accepted a 1e300 weight";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("1e6"), std::string::npos) << e.what();
+  }
+  CmacOptions huge;
+  huge.hash_table_size = 2000000000;
+  std::string error;
+  EXPECT_FALSE(huge.IsValid(&error));
+}
+
 TEST_F(NetworkIoTest, RefusesAnInvalidStructure) {
   ExpectRefused(Replaced("# layers", "# layers = 0"), LineOf("# layers"), {"'layers'"});
   ExpectRefused(Replaced("# layers", "# layers = 7"), LineOf("# layers"),

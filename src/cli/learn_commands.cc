@@ -5,16 +5,20 @@
 #include <filesystem>
 #include <iostream>
 #include <limits>
+#include <map>
 #include <memory>
+#include <set>
 #include <string>
 
 #include "cli/commands.h"
 #include "cmac_fit.h"
 #include "rabbit/gait/gait_database.h"
+#include "rabbit/io/error.h"
 #include "rabbit/learn/cmac_training.h"
 #include "rabbit/learn/fll.h"
 #include "rabbit/learn/gait_pattern.h"
 #include "rabbit/learn/network_io.h"
+#include "rabbit/scenario/scenario.h"
 
 namespace rabbit::cli {
 namespace {
@@ -51,16 +55,25 @@ double Fit(const std::string& method, const TrainArgs& a, const std::vector<doub
 
 int RunTrain(const TrainArgs& a) {
   namespace fs = std::filesystem;
-  if (!(a.beta > 0.0 && a.beta <= 1.0) || a.epochs < 1 || !(a.smoothness >= 0.0)) {
-    std::cerr << "rabbit train: need 0 < beta <= 1, epochs >= 1, smoothness >= 0\n";
+  if (!(a.beta > 0.0 && a.beta <= 1.0) || a.epochs < 1 || a.epochs > 1000000 ||
+      !(a.smoothness >= 0.0 && a.smoothness <= 1e6)) {
+    std::cerr << "rabbit train: need 0 < beta <= 1, 1 <= epochs <= 1e6, 0 <= smoothness <= 1e6\n";
     return 2;
   }
   const std::vector<GaitIndexEntry> index =
       ReadGaitIndex((fs::path(a.gaits) / "index.csv").string());
   std::vector<GaitRecord> gaits;
   double e_min = std::numeric_limits<double>::infinity(), e_max = -e_min;
+  std::set<std::string> names;
   for (const GaitIndexEntry& entry : index) {
-    gaits.push_back(ReadGaitFile((fs::path(a.gaits) / entry.file).string()));
+    const std::string path = (fs::path(a.gaits) / entry.file).string();
+    gaits.push_back(ReadGaitFile(path));
+    // The gait's name becomes file names: it must be safe and unique.
+    if (!IsSafeName(gaits.back().name) || !names.insert(gaits.back().name).second) {
+      throw InputError(path, 0, "name",
+                       "gait names must be unique and use letters, digits, '.', "
+                       "'_' and '-' only");
+    }
     for (const SwingSample& s : gaits.back().swing) {
       e_min = std::min(e_min, s.e);
       e_max = std::max(e_max, s.e);
@@ -75,6 +88,14 @@ int RunTrain(const TrainArgs& a) {
   CmacOptions options;
   options.x_min = e_min - a.margin_deg * kDeg;
   options.x_max = e_max + a.margin_deg * kDeg;
+  // Everything is fitted first, then written into a staging directory that replaces --out at the
+  // end: a failure leaves the old networks whole.
+  struct Fitted {
+    Cmac cmac;
+    std::string file;
+    std::map<std::string, std::string> metadata;
+  };
+  std::vector<Fitted> fitted;
   std::vector<NetworkIndexEntry> entries;
   std::printf("%-8s %-6s %8s %12s %10s", "gait", "output", "method", "RMS", "time ms");
   if (a.compare) std::printf("   (other method: RMS, time ms)");
@@ -99,17 +120,26 @@ int RunTrain(const TrainArgs& a) {
       }
       std::printf("\n");
       const std::string file = g.name + "_" + kGaitOutputNames[o] + ".csv";
-      WriteCmacFile(cmac,
-                    {{"gait", g.name},
-                     {"output", kGaitOutputNames[o]},
-                     {"method", a.method},
-                     {"training_rms", std::to_string(rms)}},
-                    (fs::path(a.out) / file).string());
+      fitted.push_back({cmac,
+                        file,
+                        {{"gait", g.name},
+                         {"output", kGaitOutputNames[o]},
+                         {"method", a.method},
+                         {"training_rms", std::to_string(rms)}}});
       entries.push_back({g.name, kGaitOutputNames[o], file, a.method, rms,
                          static_cast<int>(cmac.weights().size())});
     }
   }
-  WriteNetworkIndex(entries, (fs::path(a.out) / "index.csv").string());
+  const fs::path out(a.out);
+  const fs::path staging = out.string() + ".staging", old = out.string() + ".old";
+  fs::remove_all(staging);
+  fs::create_directories(staging);
+  for (const Fitted& f : fitted) WriteCmacFile(f.cmac, f.metadata, (staging / f.file).string());
+  WriteNetworkIndex(entries, (staging / "index.csv").string());
+  fs::remove_all(old);
+  if (fs::exists(out)) fs::rename(out, old);
+  fs::rename(staging, out);
+  fs::remove_all(old);
   std::printf("wrote %zu networks to %s\n", entries.size(), a.out.c_str());
   return 0;
 }
@@ -122,9 +152,35 @@ struct FisArgs {
 };
 
 int RunFisEval(const FisArgs& a) {
+  if (!std::isfinite(a.v_m) || std::isnan(a.d_obs) || a.d_obs < 0.0 ||
+      (a.has_e && !std::isfinite(a.e))) {
+    std::cerr << "rabbit fis eval: --vm and --e-deg must be finite, --dobs >= 0 (inf: none)\n";
+    return 2;
+  }
   const TsFis fis = LoadFll(a.fll);
+  // Inputs by name, in whatever order the file declares them.
+  std::vector<double> x(fis.inputs.size());
+  int v_index = -1, d_index = -1;
+  for (size_t i = 0; i < fis.inputs.size(); ++i) {
+    if (fis.inputs[i].name == "V_M") v_index = static_cast<int>(i);
+    if (fis.inputs[i].name == "d_obs") d_index = static_cast<int>(i);
+  }
+  if (fis.inputs.size() != 2 || v_index < 0 || d_index < 0) {
+    throw InputError(a.fll, 0, "", "the gait pattern's inputs must be exactly V_M and d_obs");
+  }
+  x[v_index] = a.v_m;
+  x[d_index] = a.d_obs;
+  // Load everything before printing anything.
+  std::unique_ptr<FuzzyCmac> pattern;
+  if (a.has_e) {
+    try {
+      pattern = std::make_unique<FuzzyCmac>(fis, LoadGaitNetworks(a.networks, nullptr));
+    } catch (const std::invalid_argument& e) {
+      throw InputError(a.networks, 0, "", e.what());
+    }
+  }
   TsFis::Result result;
-  fis.Evaluate({a.v_m, a.d_obs}, &result);
+  fis.Evaluate(x, &result);
   std::printf("X = [V_M %.3f m/s, d_obs %.3f m]%s\n", a.v_m, a.d_obs,
               result.fired ? "" : ": no rule fires (output = the default)");
   for (size_t r = 0; r < fis.rules.size(); ++r) {
@@ -139,13 +195,15 @@ int RunFisEval(const FisArgs& a) {
                 fis.output_terms[rule.consequent].c_str(), result.activation[r]);
   }
   std::printf("  output %s = %.4f\n", fis.output_name.c_str(), result.output);
-  if (a.has_e) {
-    FuzzyCmac pattern(fis, LoadGaitNetworks(a.networks, nullptr));
-    pattern.SetContext(a.v_m, a.d_obs);
-    const Eigen::Vector4d y = pattern.Query(a.e * kDeg);
+  if (pattern != nullptr) {
+    if (!pattern->SetContext(a.v_m, a.d_obs)) {
+      std::printf("  no rule fires: no merged references\n");
+      return 1;
+    }
+    const Eigen::Vector4d y = pattern->Query(a.e * kDeg);
     std::printf(
-        "  e = %.3f deg: q_i1 %.3f deg, q_i2 %.3f deg, qd_i1 %.3f deg/s, qd_i2 %.3f deg/s\n",
-        a.e / kDeg, y[0] / kDeg, y[1] / kDeg, y[2] / kDeg, y[3] / kDeg);
+        "  e = %.3f deg: q_i1 %.3f deg, q_i2 %.3f deg, qd_i1 %.3f deg/s, qd_i2 %.3f deg/s\n", a.e,
+        y[0] / kDeg, y[1] / kDeg, y[2] / kDeg, y[3] / kDeg);
   }
   return 0;
 }

@@ -11,6 +11,8 @@ namespace {
 // Keeps every detector count and weight index well inside int: at most 32 layers of
 // 2^24 / width + 2 detectors.
 constexpr double kMaxQuanta = 16777216.0;  // 2^24
+// 4M weights (32 MB): far beyond any gait pattern, small enough that a file cannot exhaust memory.
+constexpr int kMaxHashTable = 1 << 22;
 
 }  // namespace
 
@@ -39,6 +41,9 @@ bool CmacOptions::IsValid(std::string* error) const {
     return fail("too many quanta over the range ((x_max - x_min) / quantum must be <= 2^24)");
   }
   if (hash_table_size < 0) return fail("hash_table_size must be >= 0 (0: direct storage)");
+  if (hash_table_size > kMaxHashTable) {
+    return fail("hash_table_size must be at most " + std::to_string(kMaxHashTable));
+  }
   return true;
 }
 

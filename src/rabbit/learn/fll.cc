@@ -106,17 +106,32 @@ std::string CleanMessage(const std::string& what) {
 // The importer stops at the first line it cannot read; the shortest prefix of the text that fails
 // to import ends with that line (blocks are processed at the next block or at the end).
 int FailingLine(const std::vector<std::string>& lines) {
-  std::string prefix;
-  for (std::size_t n = 0; n < lines.size(); ++n) {
-    prefix += lines[n];
-    prefix += '\n';
+  // Whether a prefix of the file imports flips once, from fine to failing: binary search for the
+  // shortest failing prefix (O(log n) imports, so a long malformed file cannot stall us).
+  auto fails = [&lines](std::size_t n) {
+    std::string prefix;
+    for (std::size_t i = 0; i < n; ++i) {
+      prefix += lines[i];
+      prefix += '\n';
+    }
     try {
       std::unique_ptr<fl::Engine> partial(fl::FllImporter().fromString(prefix));
     } catch (const std::exception&) {
-      return static_cast<int>(n + 1);
+      return true;
+    }
+    return false;
+  };
+  if (lines.empty() || !fails(lines.size())) return 0;
+  std::size_t lo = 1, hi = lines.size();  // the answer is in [lo, hi]
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (fails(mid)) {
+      hi = mid;
+    } else {
+      lo = mid + 1;
     }
   }
-  return 0;
+  return static_cast<int>(lo);
 }
 
 // Silences fuzzylite's logging to stdout (FL_LOG) while alive.

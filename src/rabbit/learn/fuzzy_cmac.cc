@@ -59,6 +59,7 @@ bool FuzzyCmac::SetContext(double v_m, double d_obs) {
 Eigen::Vector4d FuzzyCmac::Query(double e) const {
   CmacActive active;
   networks_[0][0].Active(e, &active);  // shared structure: one active set for all
+  if (active.count == 0) return Eigen::Vector4d::Constant(std::nan(""));  // e is NaN
   Eigen::Vector4d y = Eigen::Vector4d::Zero();
   for (size_t k = 0; k < networks_.size(); ++k) {
     const double w = weights_[k];

@@ -1,9 +1,12 @@
 #include "rabbit/learn/gait_pattern.h"
 
+#include <algorithm>
+#include <array>
 #include <filesystem>
 #include <fstream>
 #include <iomanip>
 #include <map>
+#include <memory>
 #include <sstream>
 
 #include "rabbit/io/atomic_file.h"
@@ -60,15 +63,32 @@ std::vector<GaitCmacs> LoadGaitNetworks(const std::string& dir,
   std::vector<GaitCmacs> gaits;
   std::vector<std::string> names;
   std::map<std::string, size_t> slot;
+  // Each CMAC goes to its gait and output by name (the index's rows may come in any order).
+  std::vector<std::array<std::unique_ptr<Cmac>, kGaitOutputs>> slots;
   for (const NetworkIndexEntry& e : index) {
-    if (slot.count(e.gait) == 0) {
-      slot[e.gait] = gaits.size();
-      names.push_back(e.gait);
-      gaits.emplace_back();
+    const auto output =
+        std::find(std::begin(kGaitOutputNames), std::end(kGaitOutputNames), e.output);
+    if (output == std::end(kGaitOutputNames)) {
+      throw InputError(index_path, 0, e.output, "unknown output (q_i1, q_i2, qd_i1 or qd_i2)");
     }
-    gaits[slot[e.gait]].push_back(ReadCmacFile((fs::path(dir) / e.file).string(), nullptr));
+    const fs::path file(e.file);
+    if (file.is_absolute() || e.file.find("..") != std::string::npos) {
+      throw InputError(index_path, 0, e.file, "network files must lie in the networks directory");
+    }
+    if (slot.count(e.gait) == 0) {
+      slot[e.gait] = slots.size();
+      names.push_back(e.gait);
+      slots.emplace_back();
+    }
+    std::unique_ptr<Cmac>& place = slots[slot[e.gait]][output - std::begin(kGaitOutputNames)];
+    if (place != nullptr) throw InputError(index_path, 0, e.gait + " " + e.output, "listed twice");
+    place = std::make_unique<Cmac>(ReadCmacFile((fs::path(dir) / file).string(), nullptr));
   }
-  for (size_t k = 0; k < gaits.size(); ++k) {
+  for (size_t k = 0; k < slots.size(); ++k) {
+    gaits.emplace_back();
+    for (const std::unique_ptr<Cmac>& c : slots[k]) {
+      if (c != nullptr) gaits[k].push_back(*c);
+    }
     if (gaits[k].size() != kGaitOutputs) {
       throw InputError(index_path, 0, names[k],
                        "gait needs " + std::to_string(kGaitOutputs) + " networks, has " +
@@ -80,7 +100,13 @@ std::vector<GaitCmacs> LoadGaitNetworks(const std::string& dir,
 }
 
 FuzzyCmac LoadGaitPattern(const std::string& fll_path, const std::string& networks_dir) {
-  return FuzzyCmac(LoadFll(fll_path), LoadGaitNetworks(networks_dir, nullptr));
+  TsFis fis = LoadFll(fll_path);
+  std::vector<GaitCmacs> networks = LoadGaitNetworks(networks_dir, nullptr);
+  try {
+    return FuzzyCmac(std::move(fis), std::move(networks));
+  } catch (const std::invalid_argument& e) {
+    throw InputError(fll_path, 0, "", std::string(e.what()) + " (networks: " + networks_dir + ")");
+  }
 }
 
 }  // namespace rabbit

@@ -215,6 +215,11 @@ Cmac ReadCmacFile(const std::string& path, std::map<std::string, std::string>* m
                        "expected index " + std::to_string(rows) + ", got " + cells[0]);
     }
     const double weight = ParseFiniteNumber(cells[1], path, number, "weight");
+    // A CMAC output is a sum of N_l weights: keep every sum far from overflow.
+    constexpr double kMaxWeight = 1e6;
+    if (std::abs(weight) > kMaxWeight) {
+      throw InputError(path, number, "weight", "|weight| above 1e6: not a trained network");
+    }
     if (rows < expected) {
       (*cmac->mutable_weights())[rows] = weight;
     } else if (first_extra_line == 0) {
