@@ -2,11 +2,20 @@
 
 #include <charconv>
 #include <cmath>
+#include <sstream>
 #include <system_error>
 
 #include "rabbit/io/error.h"
 
 namespace rabbit {
+
+std::vector<std::string> SplitLines(const std::string& text) {
+  std::vector<std::string> lines;
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line)) lines.push_back(line);
+  return lines;
+}
 
 std::string Trim(const std::string& s) {
   const size_t a = s.find_first_not_of(" \t\r");

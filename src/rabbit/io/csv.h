@@ -8,6 +8,8 @@
 
 namespace rabbit {
 
+// The lines of a text (without their newline characters).
+std::vector<std::string> SplitLines(const std::string& text);
 // s without leading and trailing blanks (space, tab, carriage return).
 std::string Trim(const std::string& s);
 // The comma-separated cells of a row, trimmed; a trailing comma gives a last empty cell.
