@@ -50,13 +50,6 @@ Model::Model(const ModelParams& params) : params_(params) {
     link_inertias_(th) = p.thigh_inertia;
     link_inertias_(sh) = p.shin_inertia;
   }
-
-  b_.setZero();
-  b_(0, kX) = 1.0;
-  b_(1, kY) = 1.0;
-  for (int k = 2; k < 7; ++k) b_(k, kQ0) = -1.0;
-  b_(3, kQ11) = b_(4, kQ11) = b_(4, kQ12) = 1.0;
-  b_(5, kQ21) = b_(6, kQ21) = b_(6, kQ22) = 1.0;
 }
 
 void ComputeLinkAngles(const Model& /*model*/, const Vec7& q, const Vec7& qd, Data* data) {

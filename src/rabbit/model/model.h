@@ -55,8 +55,6 @@ class Model {
   const Eigen::Matrix<double, 5, 5>& moments() const { return moments_; }
   const Eigen::Matrix<double, 5, 1>& first_moments() const { return first_moments_; }
   const Eigen::Matrix<double, 5, 1>& link_inertias() const { return link_inertias_; }
-  // p = B q.
-  const Mat7& B() const { return b_; }
   double joint_armature() const { return joint_armature_; }
   // Gravity vector in the simulation frame, gravity * (sin slope, -cos slope).
   const Vec2& gravity() const { return gravity_; }
@@ -69,7 +67,6 @@ class Model {
   Eigen::Matrix<double, 5, 5> moments_;
   Eigen::Matrix<double, 5, 1> first_moments_;
   Eigen::Matrix<double, 5, 1> link_inertias_;
-  Mat7 b_;
 };
 
 // Per-simulation scratch space and results of the algorithms below.
