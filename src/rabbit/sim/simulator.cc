@@ -256,7 +256,6 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       }
       if (alive && changed) integrator->Reinit(s.t, y);
     }
-    s.elastic = 0.0;
     for (int leg = 0; leg < kNumLegs; ++leg) {
       const Vec2& pos = sample_data.foot_pos[leg];
       s.foot_pos[leg] = obs.foot_pos[leg] = pos;
@@ -264,15 +263,23 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       if (opt.contact) {
         s.foot_force[leg] =
             ComputeFootForce(setup.contact, terrain, ctx.feet[leg], pos, sample_data.foot_vel[leg]);
-        s.elastic += ContactElasticEnergy(setup.contact, terrain, ctx.feet[leg], pos);
       }
       obs.foot_force[leg] = s.foot_force[leg];
       obs.foot_contact[leg] = s.foot_force[leg].fn > 0.0;
     }
-    s.kinetic = KineticEnergy(model, s.qd, sample_data);
-    s.potential = PotentialEnergy(model, s.q, sample_data);
-
     alive = alive && CheckState(setup, s, ComputePose(model, s.q, sample_data), &result);
+    // Energies only for the samples kept (a run that records nothing, like a synthesis
+    // candidate, skips them).
+    const bool record =
+        opt.record_every > 0 && (k % opt.record_every == 0 || !alive || k == num_periods);
+    if (record) {
+      s.kinetic = KineticEnergy(model, s.qd, sample_data);
+      s.potential = PotentialEnergy(model, s.q, sample_data);
+      s.elastic = 0.0;
+      for (int leg = 0; leg < kNumLegs && opt.contact; ++leg) {
+        s.elastic += ContactElasticEnergy(setup.contact, terrain, ctx.feet[leg], s.foot_pos[leg]);
+      }
+    }
     if (alive && controller != nullptr) s.tau_cmd = controller->Compute(obs);
     for (int j = 0; j < kNumJoints; ++j) {
       SaturationRegion region;
@@ -284,9 +291,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
     if (opt.restart_at_samples && k > 0 && s.tau != ctx.tau) integrator->Restart(s.t, y);
     ctx.tau = s.tau;
     result.t_end = s.t;
-    if (opt.record_every > 0 && (k % opt.record_every == 0 || !alive || k == num_periods)) {
-      result.samples.push_back(s);
-    }
+    if (record) result.samples.push_back(s);
     if (!alive || k == num_periods) break;
     result.num_periods = k + 1;
 
