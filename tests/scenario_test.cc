@@ -1,6 +1,7 @@
 // Scenario files: the shipped examples load; every kind of bad input is refused with an
 // InputError that names the file, the line and the key.
 #include "rabbit/scenario/scenario.h"
+#include "rabbit/scenario/suite.h"
 
 #include <gtest/gtest.h>
 
@@ -60,7 +61,11 @@ TEST_F(ScenarioFileTest, ShippedScenariosLoad) {
   int count = 0;
   for (const auto& entry : fs::directory_iterator(fs::path(RABBIT_SOURCE_DIR) / "scenarios")) {
     if (entry.path().extension() != ".toml" || entry.path().filename() == "model.toml") continue;
-    EXPECT_NO_THROW(LoadScenario(entry.path().string())) << entry.path();
+    if (IsSuiteFile(entry.path().string())) {
+      EXPECT_NO_THROW(LoadSuite(entry.path().string())) << entry.path();
+    } else {
+      EXPECT_NO_THROW(LoadScenario(entry.path().string())) << entry.path();
+    }
     ++count;
   }
   EXPECT_GE(count, 4);

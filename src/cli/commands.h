@@ -19,6 +19,8 @@ Command RegisterSimulate(CLI::App* app);
 Command RegisterGaits(CLI::App* app);
 Command RegisterTrain(CLI::App* app);
 Command RegisterFis(CLI::App* app);
+Command RegisterReport(CLI::App* app);
+Command RegisterRun(CLI::App* app);
 
 }  // namespace rabbit::cli
 

@@ -23,6 +23,7 @@ bool GaitMeter::Update(const Observation& obs) {
       step.index = static_cast<int>(steps_.size());
       step.leg = leg;
       step.t_touchdown = obs.t;
+      step.x = obs.foot_pos[leg].x();
       step.l_step = std::abs(obs.foot_pos[leg].x() - obs.foot_pos[1 - leg].x());
       step.t_step = takeoff_[leg] >= 0.0 ? obs.t - takeoff_[leg] : 0.0;
       step.v_m = step.t_step > 0.0 ? step.l_step / step.t_step : 0.0;

@@ -18,6 +18,7 @@ struct StepRecord {
   double l_step = 0;       // m
   double t_step = 0;       // s (0 when that leg's take-off was not seen)
   double v_m = 0;          // m/s (0 when t_step is 0)
+  double x = 0;            // m, where the landing foot touched down
 };
 
 class GaitMeter {

@@ -1,5 +1,6 @@
 #include "rabbit/io/toml_reader.h"
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
@@ -8,10 +9,11 @@
 
 namespace rabbit {
 
-TomlReader::TomlReader(std::shared_ptr<const toml::table> root, const toml::table* table,
-                       std::string file, std::string prefix, int line)
-    : root_(std::move(root)),
-      table_(table),
+TomlReader::TomlReader(std::vector<std::shared_ptr<const toml::table>> owners,
+                       std::vector<const toml::table*> layers, std::string file,
+                       std::string prefix, int line)
+    : owners_(std::move(owners)),
+      layers_(std::move(layers)),
       file_(std::move(file)),
       prefix_(std::move(prefix)),
       line_(line) {}
@@ -23,11 +25,25 @@ TomlReader TomlReader::ParseFile(const std::string& path) {
   try {
     auto root = std::make_shared<const toml::table>(toml::parse_file(path));
     const toml::table* table = root.get();
-    return TomlReader(std::move(root), table, path, "", 1);
+    return TomlReader({std::move(root)}, {table}, path, "", 1);
   } catch (const toml::parse_error& e) {
     throw InputError(path, static_cast<int>(e.source().begin.line), "",
                      std::string("TOML syntax error: ") + std::string(e.description()));
   }
+}
+
+TomlReader TomlReader::FromLayers(std::vector<std::shared_ptr<const toml::table>> owners,
+                                  std::vector<const toml::table*> layers, std::string file,
+                                  std::string prefix, int line) {
+  layers.erase(std::remove(layers.begin(), layers.end(), nullptr), layers.end());
+  return TomlReader(std::move(owners), std::move(layers), std::move(file), std::move(prefix), line);
+}
+
+const toml::node* TomlReader::Find(const std::string& key) const {
+  for (const toml::table* layer : layers_) {
+    if (const toml::node* node = layer->get(key)) return node;
+  }
+  return nullptr;
 }
 
 std::string TomlReader::Directory() const {
@@ -43,21 +59,20 @@ int TomlReader::LineOf(const toml::node* node) const {
 }
 
 void TomlReader::Fail(const std::string& key, const std::string& message) const {
-  const toml::node* node = table_ != nullptr && !key.empty() ? table_->get(key) : nullptr;
+  const toml::node* node = key.empty() ? nullptr : Find(key);
   throw InputError(file_, LineOf(node), key.empty() ? prefix_ : PathOf(key), message);
 }
 
-bool TomlReader::Has(const std::string& key) const {
-  return table_ != nullptr && table_->contains(key);
-}
+bool TomlReader::Has(const std::string& key) const { return Find(key) != nullptr; }
 
 bool TomlReader::IsArray(const std::string& key) const {
-  return table_ != nullptr && table_->get(key) != nullptr && table_->get(key)->is_array();
+  const toml::node* node = Find(key);
+  return node != nullptr && node->is_array();
 }
 
 const toml::node* TomlReader::Node(const std::string& key) {
   known_.insert(key);
-  return table_ != nullptr ? table_->get(key) : nullptr;
+  return Find(key);
 }
 
 namespace {
@@ -142,12 +157,60 @@ std::vector<double> TomlReader::Doubles(const std::string& key,
   return values;
 }
 
-TomlReader TomlReader::Table(const std::string& key) {
+std::vector<std::vector<double>> TomlReader::DoubleRows(const std::string& key, size_t row_size) {
+  std::vector<std::vector<double>> rows;
   const toml::node* node = Node(key);
-  if (node == nullptr) return TomlReader(root_, nullptr, file_, PathOf(key), line_);
-  const auto* table = node->as_table();
-  if (table == nullptr) Fail(key, "expected a table");
-  return TomlReader(root_, table, file_, PathOf(key), LineOf(node));
+  if (node == nullptr) return rows;
+  const auto* array = node->as_array();
+  const std::string shape = "expected an array of [" + std::to_string(row_size) + " numbers] rows";
+  if (array == nullptr) Fail(key, shape);
+  for (const toml::node& element : *array) {
+    const auto* row = element.as_array();
+    if (row == nullptr || row->size() != row_size) Fail(key, shape);
+    std::vector<double> values;
+    for (const toml::node& cell : *row) {
+      double value = 0.0;
+      if (!NumberOf(cell, &value)) Fail(key, shape);
+      if (!std::isfinite(value)) Fail(key, "expected finite numbers");
+      values.push_back(value);
+    }
+    rows.push_back(std::move(values));
+  }
+  return rows;
+}
+
+std::vector<std::string> TomlReader::Strings(const std::string& key,
+                                             const std::vector<std::string>& default_value) {
+  const toml::node* node = Node(key);
+  if (node == nullptr) return default_value;
+  const auto* array = node->as_array();
+  if (array == nullptr) Fail(key, "expected an array of strings");
+  std::vector<std::string> values;
+  for (const toml::node& element : *array) {
+    const auto* text = element.as_string();
+    if (text == nullptr) Fail(key, "expected an array of strings");
+    values.push_back(text->get());
+  }
+  return values;
+}
+
+TomlReader TomlReader::Table(const std::string& key) {
+  known_.insert(key);
+  std::vector<const toml::table*> tables;
+  int line = line_;
+  bool first = true;
+  for (const toml::table* layer : layers_) {
+    const toml::node* node = layer->get(key);
+    if (node == nullptr) continue;
+    const auto* table = node->as_table();
+    if (table == nullptr) {
+      throw InputError(file_, LineOf(node), PathOf(key), "expected a table");
+    }
+    if (first) line = LineOf(node);
+    first = false;
+    tables.push_back(table);
+  }
+  return TomlReader(owners_, std::move(tables), file_, PathOf(key), line);
 }
 
 std::vector<TomlReader> TomlReader::TableArray(const std::string& key) {
@@ -158,25 +221,26 @@ std::vector<TomlReader> TomlReader::TableArray(const std::string& key) {
   if (array == nullptr || !array->is_array_of_tables()) Fail(key, "expected an array of tables");
   int index = 1;
   for (const toml::node& element : *array) {
-    out.push_back(TomlReader(root_, element.as_table(), file_,
+    out.push_back(TomlReader(owners_, {element.as_table()}, file_,
                              PathOf(key) + "[" + std::to_string(index++) + "]", LineOf(&element)));
   }
   return out;
 }
 
 void TomlReader::Finish() const {
-  if (table_ == nullptr) return;
-  for (const auto& [key, node] : *table_) {
-    const std::string name(key.str());
-    if (known_.count(name) != 0) continue;
-    std::ostringstream expected;
-    const char* separator = "";
-    for (const std::string& k : known_) {
-      expected << separator << k;
-      separator = ", ";
+  for (const toml::table* layer : layers_) {
+    for (const auto& [key, node] : *layer) {
+      const std::string name(key.str());
+      if (known_.count(name) != 0) continue;
+      std::ostringstream expected;
+      const char* separator = "";
+      for (const std::string& k : known_) {
+        expected << separator << k;
+        separator = ", ";
+      }
+      throw InputError(file_, LineOf(&node), PathOf(name),
+                       "unknown key (expected one of: " + expected.str() + ")");
     }
-    throw InputError(file_, LineOf(&node), PathOf(name),
-                     "unknown key (expected one of: " + expected.str() + ")");
   }
 }
 

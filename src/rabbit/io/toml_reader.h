@@ -17,6 +17,19 @@ class TomlReader {
  public:
   // Parses a whole file; syntax errors become InputError with the line.
   static TomlReader ParseFile(const std::string& path);
+  // A reader over layers of tables, first layer first: a key is read from the first layer that
+  // has it, sub-tables merge layer by layer (arrays do not merge: the first layer's wins), and
+  // Finish() checks every layer's keys. E.g. a suite's scenario over the suite's [defaults].
+  // Errors name `file` and the lines the nodes came from (none for tables built in memory).
+  // `owners` keeps the tables alive.
+  static TomlReader FromLayers(std::vector<std::shared_ptr<const toml::table>> owners,
+                               std::vector<const toml::table*> layers, std::string file,
+                               std::string prefix, int line);
+  // This reader's layers (for building readers over them and more layers).
+  const std::vector<const toml::table*>& layers() const { return layers_; }
+  const std::vector<std::shared_ptr<const toml::table>>& owners() const { return owners_; }
+  int line() const { return line_; }
+  const std::string& prefix() const { return prefix_; }
 
   bool Has(const std::string& key) const;
   bool IsArray(const std::string& key) const;
@@ -31,6 +44,11 @@ class TomlReader {
   // An array of numbers; size_required > 0 demands exactly that many. Missing: the default.
   std::vector<double> Doubles(const std::string& key, const std::vector<double>& default_value,
                               size_t size_required = 0);
+  // An array of rows of `row_size` numbers, e.g. [[0, 0.4], [10, 0.6]]. Missing: empty.
+  std::vector<std::vector<double>> DoubleRows(const std::string& key, size_t row_size);
+  // An array of strings. Missing: the default.
+  std::vector<std::string> Strings(const std::string& key,
+                                   const std::vector<std::string>& default_value);
   // A sub-table (an empty reader when missing).
   TomlReader Table(const std::string& key);
   // An array of tables ([[key]]); empty when missing.
@@ -45,14 +63,18 @@ class TomlReader {
   std::string Directory() const;
 
  private:
-  TomlReader(std::shared_ptr<const toml::table> root, const toml::table* table, std::string file,
-             std::string prefix, int line);
+  TomlReader(std::vector<std::shared_ptr<const toml::table>> owners,
+             std::vector<const toml::table*> layers, std::string file, std::string prefix,
+             int line);
   const toml::node* Node(const std::string& key);
   int LineOf(const toml::node* node) const;
   std::string PathOf(const std::string& key) const;
 
-  std::shared_ptr<const toml::table> root_;
-  const toml::table* table_ = nullptr;  // may be null: an absent optional table
+  // The node of `key` in the first layer that has it (null: none).
+  const toml::node* Find(const std::string& key) const;
+
+  std::vector<std::shared_ptr<const toml::table>> owners_;
+  std::vector<const toml::table*> layers_;  // empty: an absent optional table
   std::string file_;
   std::string prefix_;
   int line_ = 0;

@@ -1,5 +1,6 @@
 #include "rabbit/learn/fuzzy_cmac.h"
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 #include <string>
@@ -56,6 +57,16 @@ bool FuzzyCmac::SetContext(double v_m, double d_obs) {
   return true;
 }
 
+void FuzzyCmac::KeepStrongestRuleOnly() {
+  if (!result_.fired) return;
+  size_t best = 0;
+  for (size_t r = 1; r < fis_.rules.size(); ++r) {
+    if (result_.activation[r] > result_.activation[best]) best = r;
+  }
+  std::fill(weights_.begin(), weights_.end(), 0.0);
+  weights_[static_cast<size_t>(fis_.output_values[fis_.rules[best].consequent]) - 1] = 1.0;
+}
+
 Eigen::Vector4d FuzzyCmac::Query(double e) const {
   CmacActive active;
   networks_[0][0].Active(e, &active);  // shared structure: one active set for all
@@ -69,6 +80,35 @@ Eigen::Vector4d FuzzyCmac::Query(double e) const {
       double sum = 0.0;
       for (int i = 0; i < active.count; ++i) sum += weights[active.index[i]];
       y[o] += w * sum;
+    }
+  }
+  return y;
+}
+
+void FuzzyCmac::SetTrunkPitches(std::vector<double> q0) {
+  if (q0.size() != networks_.size()) {
+    throw std::invalid_argument("need one trunk pitch per reference gait");
+  }
+  for (double v : q0) {
+    if (!std::isfinite(v)) throw std::invalid_argument("trunk pitches must be finite");
+  }
+  pitches_ = std::move(q0);
+}
+
+Eigen::Vector4d FuzzyCmac::QueryThigh(double th_st) const {
+  if (pitches_.empty()) throw std::logic_error("FuzzyCmac::QueryThigh before SetTrunkPitches");
+  Eigen::Vector4d y = Eigen::Vector4d::Zero();
+  CmacActive active;
+  for (size_t k = 0; k < networks_.size(); ++k) {
+    const double w = weights_[k];
+    if (w == 0.0) continue;
+    networks_[k][0].Active(th_st + pitches_[k], &active);
+    if (active.count == 0) return Eigen::Vector4d::Constant(std::nan(""));
+    for (int o = 0; o < kGaitOutputs; ++o) {
+      const std::vector<double>& weights = networks_[k][o].weights();
+      double sum = 0.0;
+      for (int i = 0; i < active.count; ++i) sum += weights[active.index[i]];
+      y[o] += w * (o == 0 ? sum - pitches_[k] : sum);
     }
   }
   return y;

@@ -29,8 +29,20 @@ class FuzzyCmac {
   // Evaluates the FIS at X = [v_m, d_obs] and keeps the per-gait weights w_k. Returns false (and
   // keeps the previous weights) when no rule fires.
   bool SetContext(double v_m, double d_obs);
+  // Nearest-gait switching (a baseline): the weights become 1 for the gait of the strongest rule
+  // of the last SetContext and 0 for the others (the first such rule on a tie).
+  void KeepStrongestRuleOnly();
   // The four swing-leg references at e with the current weights (eq. 13).
   Eigen::Vector4d Query(double e) const;
+
+  // The thigh frame (an addition to the chapter, see README design notes): gait k was learnt with
+  // the trunk held at pitch q0_k, so in terms of absolute thigh angles (th = q_i1 - q0) its swing
+  // thigh is O^k_1(th_st + q0_k) - q0_k while knee angles and rates are unchanged. Given every
+  // gait's pitch, QueryThigh(th_st) blends the gaits in that frame: its first output is the swing
+  // thigh's absolute angle. Throws std::invalid_argument unless one finite pitch per gait.
+  void SetTrunkPitches(std::vector<double> q0);
+  Eigen::Vector4d QueryThigh(double th_st) const;
+  const std::vector<double>& trunk_pitches() const { return pitches_; }
 
   const TsFis& fis() const { return fis_; }
   const TsFis::Result& rule_activations() const { return result_; }
@@ -43,6 +55,7 @@ class FuzzyCmac {
   TsFis::Result result_;
   std::vector<double> weights_;          // per reference gait
   std::vector<double> x_;                // FIS input scratch
+  std::vector<double> pitches_;          // per gait, for QueryThigh (empty: not set)
   int v_m_input_ = 0, d_obs_input_ = 1;  // positions of V_M and d_obs among the FIS inputs
 };
 

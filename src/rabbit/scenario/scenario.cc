@@ -1,5 +1,6 @@
 #include "rabbit/scenario/scenario.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cmath>
 #include <filesystem>
@@ -19,6 +20,8 @@ constexpr double kMaxPeriods = 1e8;      // control periods in one run
 // under load; deeper is a mistake in the scenario).
 constexpr double kMaxInitialPenetration = 0.005;  // m
 constexpr double kMaxInitialSpeed = 20.0;         // m/s or rad/s, any coordinate
+// A run given by distance only stops at the latest after this time.
+constexpr double kDefaultDistanceTimeLimit = 600.0;  // s
 
 // The initial state must be physically sensible: finite, bounded rates, feet not deep in the
 // ground, no link inside an obstacle.
@@ -121,7 +124,15 @@ Terrain ReadTerrain(TomlReader t, ModelParams* model) {
 
 void ReadSimulation(TomlReader t, Scenario* s) {
   SimOptions& o = s->options;
-  o.duration = t.RequiredDouble("duration");
+  if (t.Has("distance")) {
+    o.stop_distance = t.Double("distance", 0.0);
+    if (!(o.stop_distance > 0.0 && o.stop_distance <= 1e4)) {
+      t.Fail("distance", "must be in (0, 1e4] m");
+    }
+    o.duration = t.Double("duration", kDefaultDistanceTimeLimit);
+  } else {
+    o.duration = t.RequiredDouble("duration");
+  }
   if (o.duration < 0.0) t.Fail("duration", "must be >= 0");
   const double rate = t.Double("control_rate_hz", 1.0 / o.control_period);
   if (!(rate >= 1.0 && rate <= kMaxControlRate)) {
@@ -221,7 +232,8 @@ void ReadController(TomlReader t, Scenario* s) {
     Validate(t, p);
   } else {
     t.Fail("type", "unknown controller \"" + type +
-                       "\" (expected \"passive\", \"pd_hold\" or \"pragmatic\")");
+                       "\" (expected \"passive\", \"pd_hold\", \"pragmatic\" or "
+                       "\"fuzzy_cmac\")");
   }
   t.Finish();
 }
@@ -252,6 +264,156 @@ void ReadPragmatic(TomlReader* t, Scenario* s) {
   spec.start_angle = t->Double("start_angle_deg", spec.start_angle / kDeg) * kDeg;
   t->Finish();
   Validate(*t, spec);
+}
+
+std::string ResolvePath(const TomlReader& t, const std::string& path) {
+  const std::filesystem::path p(path);
+  return p.is_absolute() ? path : (std::filesystem::path(t.Directory()) / p).string();
+}
+
+// [velocity]: profile = "constant" (value = V_d) | "ramp" | "steps" (points = [[t_s, v_m_s], ...]).
+VelocityProfile ReadVelocity(TomlReader t) {
+  VelocityProfile v;
+  const std::string kind = t.String("profile", "constant");
+  if (kind == "constant") {
+    v.kind = VelocityProfile::Kind::kConstant;
+  } else if (kind == "ramp") {
+    v.kind = VelocityProfile::Kind::kRamp;
+  } else if (kind == "steps") {
+    v.kind = VelocityProfile::Kind::kSteps;
+  } else {
+    t.Fail("profile", "expected \"constant\", \"ramp\" or \"steps\", got \"" + kind + "\"");
+  }
+  v.points.clear();
+  if (v.kind == VelocityProfile::Kind::kConstant && t.Has("value")) {
+    v.points.push_back({0.0, t.Double("value", 0.0)});
+  }
+  for (const std::vector<double>& row : t.DoubleRows("points", 2)) {
+    v.points.push_back({row[0], row[1]});
+  }
+  t.Finish();
+  if (v.points.empty()) {
+    t.Fail(v.kind == VelocityProfile::Kind::kConstant ? "value" : "points",
+           "the velocity profile has no points (give value = V_d, or points = [[t_s, V_d], ...])");
+  }
+  std::string error;
+  if (!v.IsValid(&error)) t.Fail("points", error);
+  return v;
+}
+
+std::vector<TrunkPush> ReadPushes(TomlReader* root) {
+  std::vector<TrunkPush> pushes;
+  for (TomlReader& t : root->TableArray("push")) {
+    TrunkPush p;
+    p.start = t.RequiredDouble("start");
+    p.duration = t.Double("duration", p.duration);
+    p.force = Vec2(t.Double("force_x", 0.0), t.Double("force_y", 0.0));
+    p.height = t.Double("height", p.height);
+    t.Finish();
+    std::string error;
+    if (!p.IsValid(&error)) t.Fail("", error);
+    pushes.push_back(p);
+  }
+  return pushes;
+}
+
+PassCriteria ReadCriteria(TomlReader t) {
+  PassCriteria c;
+  constexpr long kMaxSteps = 1000000;
+  c.min_steps = static_cast<int>(t.Integer("min_steps", c.min_steps, 0, kMaxSteps));
+  c.min_distance = t.Double("min_distance_m", c.min_distance);
+  c.max_l_step_spread = t.Double("max_l_step_spread_m", c.max_l_step_spread);
+  c.spread_steps = static_cast<int>(t.Integer("spread_steps", c.spread_steps, 1, kMaxSteps));
+  c.speed_tolerance = t.Double("speed_tolerance_m_s", c.speed_tolerance);
+  c.settle_steps = static_cast<int>(t.Integer("settle_steps", c.settle_steps, 0, kMaxSteps));
+  c.track_up_to = t.Double("track_up_to_m_s", c.track_up_to);
+  c.min_steps_after_obstacles = static_cast<int>(
+      t.Integer("min_steps_after_obstacles", c.min_steps_after_obstacles, 0, kMaxSteps));
+  c.allow_obstacle_contact = t.Bool("allow_obstacle_contact", c.allow_obstacle_contact);
+  t.Finish();
+  for (const auto& [key, value] :
+       {std::pair<const char*, double>{"min_distance_m", c.min_distance},
+        {"max_l_step_spread_m", c.max_l_step_spread},
+        {"speed_tolerance_m_s", c.speed_tolerance},
+        {"track_up_to_m_s", c.track_up_to}}) {
+    if (value < 0.0) t.Fail(key, "must be >= 0");
+  }
+  return c;
+}
+
+// type = "fuzzy_cmac": the chapter's walker (see FuzzyCmacWalker). Reads the gait database to
+// choose the start gait; the walk starts from its documented walking start.
+void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
+  s->controller = ControllerKind::kFuzzyCmac;
+  GaitPatternFiles& f = s->pattern;
+  f.fll = ResolvePath(*t, t->String("fll", "../gaits/gait_pattern.fll"));
+  f.networks = ResolvePath(*t, t->String("networks", "../gaits/networks"));
+  f.gaits = ResolvePath(*t, t->String("gaits", "../gaits/reference"));
+  const std::vector<GaitIndexEntry> index =
+      ReadGaitIndex((std::filesystem::path(f.gaits) / "index.csv").string());
+  if (index.empty()) t->Fail("gaits", "the gait database " + f.gaits + " lists no gait");
+  s->start_gait = t->String("start_gait", "");
+  const GaitIndexEntry* start = nullptr;
+  if (s->start_gait.empty()) {
+    const double v0 = s->velocity.At(0.0);
+    for (const GaitIndexEntry& e : index) {
+      if (start == nullptr || std::abs(e.measured_v_m - v0) < std::abs(start->measured_v_m - v0)) {
+        start = &e;
+      }
+    }
+    s->start_gait = start->name;
+  } else {
+    for (const GaitIndexEntry& e : index) {
+      if (e.name == s->start_gait) start = &e;
+    }
+    if (start == nullptr) t->Fail("start_gait", "no gait \"" + s->start_gait + "\" in " + f.gaits);
+  }
+  const GaitRecord gait = ReadGaitFile((std::filesystem::path(f.gaits) / start->file).string());
+  s->walking = gait.spec;
+  WalkerParams& w = s->walker;
+  w.warmup = gait.spec.rules;
+  w.q0_d_initial = gait.spec.rules.q0_d;
+  w.v_m_initial = gait.measured.v_m;
+  w.warmup_steps = static_cast<int>(t->Integer("warmup_steps", w.warmup_steps, 0, 1000));
+  w.hip_kp = t->Double("hip_kp", w.hip_kp);
+  w.hip_kd = t->Double("hip_kd", w.hip_kd);
+  w.knee_kp = t->Double("knee_kp", w.knee_kp);
+  w.knee_kd = t->Double("knee_kd", w.knee_kd);
+  w.stance_knee_kp = t->Double("stance_knee_kp", w.stance_knee_kp);
+  w.stance_knee_kd = t->Double("stance_knee_kd", w.stance_knee_kd);
+  w.trunk_kp = t->Double("trunk_kp", w.trunk_kp);
+  w.trunk_kd = t->Double("trunk_kd", w.trunk_kd);
+  w.k_p = t->Double("k_p", w.k_p);
+  w.k_v = t->Double("k_v", w.k_v);
+  w.q0_d_min = t->Double("q0_d_min_deg", w.q0_d_min / kDeg) * kDeg;
+  w.q0_d_max = t->Double("q0_d_max_deg", w.q0_d_max / kDeg) * kDeg;
+  w.q0_d_initial = t->Double("q0_d_initial_deg", w.q0_d_initial / kDeg) * kDeg;
+  w.v_m_initial = t->Double("v_m_initial", w.v_m_initial);
+  w.v_m_average_steps =
+      static_cast<int>(t->Integer("v_m_average_steps", w.v_m_average_steps, 1, 100));
+  w.d_obs_max = t->Double("d_obs_max", w.d_obs_max);
+  w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
+  w.clearance_knee = t->Double("clearance_knee_deg", w.clearance_knee / kDeg) * kDeg;
+  w.clearance_hip = t->Double("clearance_hip_deg", w.clearance_hip / kDeg) * kDeg;
+  w.clearance_lead = t->Double("clearance_lead", w.clearance_lead);
+  w.clearance_trail = t->Double("clearance_trail", w.clearance_trail);
+  w.clearance_fade = t->Double("clearance_fade", w.clearance_fade);
+  s->baselines = t->Strings("baselines", {});
+  for (size_t i = 0; i < s->baselines.size(); ++i) {
+    const std::string& b = s->baselines[i];
+    if (b != "pragmatic" && b != "nearest_gait") {
+      t->Fail("baselines", "unknown baseline \"" + b + "\" (expected \"pragmatic\" or \"nearest_gait\")");
+    }
+    for (size_t j = 0; j < i; ++j) {
+      if (s->baselines[j] == b) t->Fail("baselines", "\"" + b + "\" listed twice");
+    }
+  }
+  t->Finish();
+  // The velocity profile's q0_d range check happens in IsValid; clamp the start into the range.
+  std::string error;
+  if (!(w.q0_d_min <= w.q0_d_max)) t->Fail("q0_d_min_deg", "must be <= q0_d_max_deg");
+  w.q0_d_initial = std::clamp(w.q0_d_initial, w.q0_d_min, w.q0_d_max);
+  if (!w.IsValid(&error)) t->Fail("", error);
 }
 
 }  // namespace
@@ -293,10 +455,14 @@ ModelParams LoadModelFile(const std::string& path) {
 }
 
 Scenario LoadScenario(const std::string& path) {
-  TomlReader root = TomlReader::ParseFile(path);
+  return ReadScenario(TomlReader::ParseFile(path), std::filesystem::path(path).stem().string());
+}
+
+Scenario ReadScenario(TomlReader root, const std::string& default_name) {
   Scenario s;
-  s.file = path;
-  s.name = root.String("name", std::filesystem::path(path).stem().string());
+  s.file = root.file();
+  s.name = root.String("name", default_name);
+  if (s.name.empty()) root.Fail("name", "missing: every scenario of a suite needs a name");
   if (!IsSafeName(s.name)) {
     root.Fail("name", "use letters, digits, '.', '_' and '-' only (it names the output folder)");
   }
@@ -307,6 +473,8 @@ Scenario LoadScenario(const std::string& path) {
       s.expected_outcome != "diverged") {
     root.Fail("expect_outcome", "expected \"completed\", \"fell\", \"tripped\" or \"diverged\"");
   }
+  s.required = root.Bool("required", s.required);
+  s.seed = static_cast<std::uint64_t>(root.Integer("seed", 1, 0, std::numeric_limits<long>::max()));
   TomlReader model_table = root.Table("model");
   s.model = ReadModelParams(&model_table);
   ReadSimulation(root.Table("simulation"), &s);  // may switch gravity off in s.model
@@ -314,9 +482,27 @@ Scenario LoadScenario(const std::string& path) {
   s.actuator = ReadActuator(root.Table("actuator"));
   s.terrain = ReadTerrain(root.Table("terrain"), &s.model);
   ReadFall(root.Table("fall"), &s.options.fall);
+  s.pushes = ReadPushes(&root);
+  s.criteria = ReadCriteria(root.Table("criteria"));
+  if (root.Has("velocity")) s.velocity = ReadVelocity(root.Table("velocity"));
+  TomlReader noise = root.Table("noise");
+  s.walker.v_m_noise = noise.Double("v_m_std", 0.0);
+  s.walker.d_obs_noise = noise.Double("d_obs_std", 0.0);
+  noise.Finish();
+  if (s.walker.v_m_noise < 0.0) noise.Fail("v_m_std", "must be >= 0");
+  if (s.walker.d_obs_noise < 0.0) noise.Fail("d_obs_std", "must be >= 0");
+  s.walker.seed = s.seed;
   TomlReader controller = root.Table("controller");
-  if (controller.String("type", "passive") == "pragmatic") {
-    ReadPragmatic(&controller, &s);
+  const std::string type = controller.String("type", "passive");
+  if (type == "pragmatic" || type == "fuzzy_cmac") {
+    if (type == "pragmatic") {
+      ReadPragmatic(&controller, &s);
+    } else {
+      if (!root.Has("velocity")) {
+        root.Fail("velocity", "the fuzzy_cmac controller needs a [velocity] profile");
+      }
+      ReadFuzzyCmac(&controller, &s);
+    }
     // The walk starts from the documented walking start: [initial] takes no keys.
     TomlReader initial = root.Table("initial");
     initial.Finish();
@@ -351,6 +537,7 @@ SimSetup MakeSimSetup(const Scenario& scenario, const Model* model) {
   setup.contact = scenario.contact;
   setup.actuator = scenario.actuator;
   setup.terrain = scenario.terrain;
+  setup.pushes = scenario.pushes;
   setup.options = scenario.options;
   return setup;
 }

@@ -2,13 +2,17 @@
 #ifndef RABBIT_SCENARIO_SCENARIO_H_
 #define RABBIT_SCENARIO_SCENARIO_H_
 
+#include <cstdint>
+#include <limits>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "rabbit/contact/actuator.h"
 #include "rabbit/contact/contact.h"
 #include "rabbit/contact/terrain.h"
 #include "rabbit/control/basic_controllers.h"
+#include "rabbit/control/fuzzy_cmac_walker.h"
 #include "rabbit/gait/gait_walk.h"
 #include "rabbit/model/params.h"
 #include "rabbit/sim/simulator.h"
@@ -17,7 +21,32 @@ namespace rabbit {
 
 class TomlReader;
 
-enum class ControllerKind { kPassive, kPdHold, kPragmatic };
+enum class ControllerKind { kPassive, kPdHold, kPragmatic, kFuzzyCmac };
+
+// What a scenario must show to pass (checked after the run by EvaluateCriteria in
+// rabbit/scenario/criteria.h). Unset criteria (0 or infinity) are not checked.
+struct PassCriteria {
+  int min_steps = 0;                // steps taken without falling
+  double min_distance = 0.0;        // m the hip travelled
+  // L_step spread (max - min) over the last `spread_steps` steps.
+  double max_l_step_spread = std::numeric_limits<double>::infinity();  // m
+  int spread_steps = 10;
+  // Velocity tracking: every step at least `settle_steps` steps after the last change of V_d (the
+  // steps in between all saw the same V_d), with V_d <= track_up_to, has |V_M - V_d| <= tolerance.
+  // V_M here is the stride velocity (mean of the step and the one before: one step of each leg).
+  double speed_tolerance = std::numeric_limits<double>::infinity();  // m/s
+  int settle_steps = 10;
+  double track_up_to = std::numeric_limits<double>::infinity();  // m/s
+  // Obstacles: at least this many steps after the hip passed the last obstacle's far edge, and no
+  // foot ever landed on an obstacle's top unless allowed.
+  int min_steps_after_obstacles = 0;
+  bool allow_obstacle_contact = true;
+};
+
+// The walker's gait pattern and reference gaits, as paths (resolved against the scenario file).
+struct GaitPatternFiles {
+  std::string fll, networks, gaits;
+};
 
 struct Scenario {
   std::string file;
@@ -34,10 +63,25 @@ struct Scenario {
   PdHoldParams pd_hold;
   GaitSpec walking;              // kPragmatic: the rules and the documented walking start
   std::string expected_outcome;  // empty: any outcome passes
+  // kFuzzyCmac: the walker, its files, the gait it starts from (its documented walking start and
+  // pragmatic warm-up), and the baselines to run beside it ("pragmatic", "nearest_gait").
+  WalkerParams walker;
+  GaitPatternFiles pattern;
+  std::string start_gait;
+  std::vector<std::string> baselines;
+  // The desired velocity V_d(t) (for every walking controller; the baselines only report it).
+  VelocityProfile velocity;
+  std::vector<TrunkPush> pushes;
+  PassCriteria criteria;
+  bool required = true;  // false: its failures are reported but do not fail the suite
+  std::uint64_t seed = 1;
 };
 
 // Reads and validates a scenario file. Throws InputError naming the file, line and key.
 Scenario LoadScenario(const std::string& path);
+// Reads and validates one scenario from a table (a scenario file's root, or a suite's scenario
+// merged with its defaults); relative paths resolve against the reader's file's directory.
+Scenario ReadScenario(TomlReader root, const std::string& default_name);
 
 // Reads a [model] table (all ModelParams fields, optionally `file = "other.toml"` whose [model]
 // table gives the base values). Validates the result.

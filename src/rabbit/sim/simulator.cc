@@ -1,5 +1,6 @@
 #include "rabbit/sim/simulator.h"
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
 #include <sstream>
@@ -46,6 +47,31 @@ bool SimOptions::IsValid(std::string* error) const {
   return integrator.IsValid(error);
 }
 
+bool TrunkPush::IsValid(std::string* error) const {
+  if (!(std::isfinite(start) && std::isfinite(duration) && force.allFinite() &&
+        std::isfinite(height))) {
+    *error = "push values must be finite";
+    return false;
+  }
+  if (start < 0.0 || duration <= 0.0) {
+    *error = "push start must be >= 0 and duration > 0";
+    return false;
+  }
+  if (force.norm() > 1e4 || std::abs(height) > 2.0) {
+    *error = "push beyond sensible bounds (|force| <= 1e4 N, |height| <= 2 m)";
+    return false;
+  }
+  return true;
+}
+
+Vec7 TrunkForceToGeneralized(const Vec7& q, const Vec2& force, double height) {
+  Vec7 Q = Vec7::Zero();
+  Q[kX] = force.x();
+  Q[kY] = force.y();
+  Q[kQ0] = height * (force.x() * std::cos(q[kQ0]) - force.y() * std::sin(q[kQ0]));
+  return Q;
+}
+
 namespace {
 
 constexpr int kStateSize = 2 * kNq;
@@ -59,6 +85,7 @@ struct RunContext {
   Data data;
   std::array<FootContactState, kNumLegs> feet{};
   Vec4 tau = Vec4::Zero();
+  std::vector<const TrunkPush*> pushes;  // trunk pushes held over the period
   int num_obstacles = 0;
 };
 
@@ -69,6 +96,9 @@ int Rhs(double /*t*/, const double* y, double* ydot, void* user) {
   const Vec7 qd = Eigen::Map<const Vec7>(y + kNq);
   ComputeAbsoluteDynamics(model, q, qd, &c->data);
   Vec7 Q = JointTorqueToGeneralized(c->tau);
+  for (const TrunkPush* push : c->pushes) {
+    Q += TrunkForceToGeneralized(q, push->force, push->height);
+  }
   if (c->setup->options.contact) {
     ComputeFootKinematics(model, q, qd, &c->data);
     for (int leg = 0; leg < kNumLegs; ++leg) {
@@ -204,6 +234,9 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       !setup.actuator.IsValid(&error) || !setup.terrain.IsValid(&error)) {
     throw std::invalid_argument(error);
   }
+  for (const TrunkPush& push : setup.pushes) {
+    if (!push.IsValid(&error)) throw std::invalid_argument(error);
+  }
   const Model& model = *setup.model;
   const SimOptions& opt = setup.options;
   const Terrain& terrain = setup.terrain;
@@ -211,6 +244,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
   RunContext ctx;
   ctx.setup = &setup;
   ctx.num_obstacles = static_cast<int>(terrain.obstacles.size());
+  ctx.pushes.reserve(setup.pushes.size());
   if (opt.contact) {
     for (int leg = 0; leg < kNumLegs; ++leg) {
       ctx.feet[leg] = InitialFootState(terrain, FootPosition(model, q0, leg));
@@ -268,10 +302,12 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       obs.foot_contact[leg] = s.foot_force[leg].fn > 0.0;
     }
     alive = alive && CheckState(setup, s, ComputePose(model, s.q, sample_data), &result);
+    const bool reached = alive && s.q[kX] >= opt.stop_distance;
     // Energies only for the samples kept (a run that records nothing, like a synthesis
     // candidate, skips them).
     const bool record =
-        opt.record_every > 0 && (k % opt.record_every == 0 || !alive || k == num_periods);
+        opt.record_every > 0 &&
+        (k % opt.record_every == 0 || !alive || reached || k == num_periods);
     if (record) {
       s.kinetic = KineticEnergy(model, s.qd, sample_data);
       s.potential = PotentialEnergy(model, s.q, sample_data);
@@ -285,14 +321,35 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       SaturationRegion region;
       s.tau[j] = SaturateTorque(setup.actuator, s.tau_cmd[j], s.qd[3 + j], &region);
       if (region != SaturationRegion::kNone) ++result.saturated_periods[j];
+      if (k < num_periods) {
+        result.positive_work += std::max(0.0, s.tau[j] * s.qd[3 + j]) * opt.control_period;
+      }
     }
     // New torques are a jump in the right-hand side: restart the integrator there (see
     // SimOptions::restart_at_samples). Unchanged torques (e.g. a passive robot) need nothing.
-    if (opt.restart_at_samples && k > 0 && s.tau != ctx.tau) integrator->Restart(s.t, y);
+    // Pushes held over this period (capacity reserved: no allocation here).
+    bool push_changed = false;
+    size_t active = 0;
+    for (const TrunkPush& p : setup.pushes) {
+      if (s.t >= p.start - 1e-12 && s.t < p.start + p.duration - 1e-12) {
+        push_changed |= active >= ctx.pushes.size() || ctx.pushes[active] != &p;
+        ++active;
+      }
+    }
+    push_changed |= active != ctx.pushes.size();
+    if (push_changed) {
+      ctx.pushes.clear();
+      for (const TrunkPush& p : setup.pushes) {
+        if (s.t >= p.start - 1e-12 && s.t < p.start + p.duration - 1e-12) ctx.pushes.push_back(&p);
+      }
+    }
+    if (opt.restart_at_samples && k > 0 && (s.tau != ctx.tau || push_changed)) {
+      integrator->Restart(s.t, y);
+    }
     ctx.tau = s.tau;
     result.t_end = s.t;
     if (record) result.samples.push_back(s);
-    if (!alive || k == num_periods) break;
+    if (!alive || reached || k == num_periods) break;
     result.num_periods = k + 1;
 
     // Integrate over the control period, stopping at every event.

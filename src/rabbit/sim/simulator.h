@@ -5,6 +5,7 @@
 #define RABBIT_SIM_SIMULATOR_H_
 
 #include <array>
+#include <limits>
 #include <string>
 #include <vector>
 
@@ -35,6 +36,8 @@ struct SimOptions {
   bool restart_at_samples = true;
   int max_events_per_period = 100;  // more means chattering: the run ends as diverged
   int record_every = 1;             // keep every n-th sample in the result (0 = none)
+  // End the run (as completed) at the first sample where the hip is at or beyond this x (m).
+  double stop_distance = std::numeric_limits<double>::infinity();
   IntegratorOptions integrator;
   FallCriteria fall;
   bool IsValid(std::string* error) const;
@@ -76,10 +79,28 @@ struct SimResult {
   std::vector<ContactEvent> events;  // every contact mode change, in time order
   long num_periods = 0;
   std::array<long, kNumJoints> saturated_periods{};  // control periods with saturation per joint
+  // Mechanical work of the actuators, sum over joints and periods of max(0, tau_j qd_j) dt with
+  // the torque and rate at each sample (J): the energy term of the cost of transport.
+  double positive_work = 0.0;
   double saturation_time(int joint, double period) const {
     return static_cast<double>(saturated_periods[joint]) * period;
   }
 };
+
+// An external force on the trunk (a push), in the simulation frame, at the point `height` above the
+// hip on the trunk's axis, acting on the control samples t_k with start <= t_k < start + duration
+// (held over each period like the torques, so its timing is quantised to the control period).
+struct TrunkPush {
+  double start = 0.0;     // s
+  double duration = 0.1;  // s
+  Vec2 force = Vec2::Zero();  // N
+  double height = 0.2;    // m above the hip, along the trunk
+  bool IsValid(std::string* error) const;
+};
+
+// The generalized force of a force F at `height` on the trunk axis (virtual work):
+// Q_x = F_x, Q_y = F_y, Q_q0 = height (F_x cos q0 - F_y sin q0).
+Vec7 TrunkForceToGeneralized(const Vec7& q, const Vec2& force, double height);
 
 // Everything a run needs besides its initial state and controller. The model and terrain are
 // shared read-only (several threads may simulate with one Setup).
@@ -88,6 +109,7 @@ struct SimSetup {
   ContactParams contact;
   ActuatorParams actuator;
   Terrain terrain;
+  std::vector<TrunkPush> pushes;
   SimOptions options;
 };
 

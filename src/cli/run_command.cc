@@ -1,0 +1,201 @@
+// rabbit run [SUITE...] [--out DIR] [--jobs N] [--filter REGEX]: the main job. Runs every scenario
+// of the suites (and their baselines) in parallel, writes summary.csv, each run's CSV files and
+// index.html. Nothing is written before every suite has loaded; each report is built in a staging
+// folder renamed into place at the end, so a failed run never leaves half a report.
+#include <unistd.h>
+
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "cli/commands.h"
+#include "rabbit/io/atomic_file.h"
+#include "rabbit/io/error.h"
+#include "rabbit/report/run_files.h"
+#include "rabbit/report/suite_report.h"
+#include "rabbit/scenario/batch.h"
+#include "rabbit/scenario/suite.h"
+
+namespace rabbit::cli {
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr const char* kDefaultSuite = "scenarios/paper.toml";
+
+struct RunArgs {
+  std::vector<std::string> suites;
+  std::string out;
+  int jobs = 0;
+  std::string filter;
+  bool quiet = false;
+  bool html = true;
+  SuiteReportOptions report;
+};
+
+// The default suite: scenarios/paper.toml below the working directory, else the one shipped with
+// the sources this binary was built from.
+std::string DefaultSuite() {
+  if (fs::exists(kDefaultSuite)) return kDefaultSuite;
+  const fs::path shipped = fs::path(RABBIT_SOURCE_DIR) / kDefaultSuite;
+  return fs::exists(shipped) ? shipped.string() : kDefaultSuite;
+}
+
+// Removes a staging folder unless released.
+struct StagingGuard {
+  fs::path path;
+  bool keep = false;
+  ~StagingGuard() {
+    std::error_code ignored;
+    if (!keep) fs::remove_all(path, ignored);
+  }
+};
+
+struct SuiteOutcome {
+  int runs = 0, failed_required = 0;
+  double simulated = 0.0;
+};
+
+SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& jobs,
+                         const fs::path& out_dir, const RunArgs& args) {
+  const fs::path staging = out_dir.string() + ".partial-" + std::to_string(::getpid());
+  StagingGuard guard{staging};
+  fs::remove_all(staging);
+  fs::create_directories(staging);
+  const bool terminal = !args.quiet && ::isatty(STDERR_FILENO) != 0;
+  std::vector<std::string> rows(jobs.size());
+  std::vector<RunOutput> brief(jobs.size());  // metrics and outcome only (no samples)
+  size_t done = 0;
+  SuiteOutcome outcome;
+  const auto start = std::chrono::steady_clock::now();
+  RunBatch(jobs, args.jobs, [&](size_t i, RunOutput&& run) {
+    WriteRunFiles(*jobs[i].scenario, run, staging.string());
+    rows[i] = SummaryRow(suite.name, run);
+    outcome.simulated += run.sim.t_end;
+    if (terminal) {
+      std::fprintf(stderr, "\r\033[K[%zu/%zu] %s: %s%s", ++done, jobs.size(), run.run.c_str(),
+                   OutcomeName(run.sim.outcome), run.passed ? "" : " (failed criteria)");
+      std::fflush(stderr);
+    }
+    run.sim.samples.clear();
+    run.sim.samples.shrink_to_fit();
+    run.sim.events.clear();
+    run.steps.clear();
+    run.tracking.clear();
+    brief[i] = std::move(run);
+  });
+  const double wall =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (terminal) std::fprintf(stderr, "\r\033[K");
+  WriteFileAtomically((staging / "summary.csv").string(), [&rows](std::ostream& out) {
+    out << SummaryHeader() << "\n";
+    for (const std::string& r : rows) out << r << "\n";
+  });
+  std::vector<std::string> warnings;
+  if (args.html) WriteSuiteReport(staging.string(), args.report, &warnings);
+  for (const std::string& w : warnings) std::cerr << "rabbit run: warning: " << w << "\n";
+  if (fs::exists(out_dir)) fs::remove_all(out_dir);
+  fs::create_directories(out_dir.parent_path().empty() ? "." : out_dir.parent_path());
+  fs::rename(staging, out_dir);
+  guard.keep = true;
+
+  outcome.runs = static_cast<int>(jobs.size());
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    const RunOutput& r = brief[i];
+    const bool main_variant = r.run == jobs[i].scenario->name;
+    if (!r.passed && main_variant && jobs[i].scenario->required) ++outcome.failed_required;
+  }
+  if (!args.quiet) {
+    std::printf("suite      %s (%s): %zu runs in %.1f s wall on %d threads (%.1f runs/min, %.0fx "
+                "real time)\n",
+                suite.name.c_str(), suite.file.c_str(), jobs.size(), wall,
+                args.jobs > 0 ? args.jobs : static_cast<int>(std::thread::hardware_concurrency()),
+                wall > 0 ? 60.0 * static_cast<double>(jobs.size()) / wall : 0.0,
+                wall > 0 ? outcome.simulated / wall : 0.0);
+    std::printf("%-34s %-10s %-6s %6s %8s %9s %8s\n", "run", "outcome", "pass", "steps",
+                "dist m", "|V-Vd| m/s", "L_step m");
+    for (size_t i = 0; i < jobs.size(); ++i) {
+      const RunOutput& r = brief[i];
+      std::printf("%-34s %-10s %-6s %6d %8.2f %9.3f %8.3f\n", r.run.c_str(),
+                  OutcomeName(r.sim.outcome),
+                  r.passed ? "yes" : (r.run == jobs[i].scenario->name && jobs[i].scenario->required
+                                          ? "NO"
+                                          : "no"),
+                  r.metrics.steps, r.metrics.distance, r.metrics.mean_abs_speed_error,
+                  r.metrics.l_step_mean);
+      for (const std::string& f : r.failures) std::printf("    - %s\n", f.c_str());
+    }
+    std::printf("wrote      %s\n",
+                (out_dir / (args.html ? "index.html" : "summary.csv")).string().c_str());
+  }
+  return outcome;
+}
+
+int RunRun(RunArgs args) {
+  std::string error;
+  if (!args.report.IsValid(&error)) {
+    std::cerr << "rabbit run: " << error << "\n";
+    return 2;
+  }
+  if (args.suites.empty()) args.suites.push_back(DefaultSuite());
+  // Load and plan everything first: bad input leaves nothing behind.
+  std::vector<Suite> suites;
+  for (const std::string& path : args.suites) suites.push_back(LoadSuite(path));
+  std::vector<std::vector<BatchJob>> plans;
+  for (const Suite& s : suites) {
+    plans.push_back(PlanBatch(s, args.filter));
+    if (plans.back().empty()) {
+      throw InputError(s.file, 0, "--filter", "no scenario of suite " + s.name + " matches \"" +
+                                                  args.filter + "\"");
+    }
+  }
+  for (size_t i = 0; i < suites.size(); ++i) {
+    for (size_t j = 0; j < i; ++j) {
+      if (suites[i].name == suites[j].name) {
+        throw InputError(suites[i].file, 0, "suite.name",
+                         "two suites named \"" + suites[i].name + "\" would share a report");
+      }
+    }
+  }
+  int failed = 0;
+  for (size_t i = 0; i < suites.size(); ++i) {
+    // One suite: --out is its report folder; several: --out is their parent.
+    fs::path out = args.out.empty() ? fs::path("reports") / suites[i].name
+                   : suites.size() == 1 ? fs::path(args.out)
+                                        : fs::path(args.out) / suites[i].name;
+    failed += RunOneSuite(suites[i], plans[i], out, args).failed_required;
+  }
+  if (failed > 0) {
+    std::cerr << "rabbit run: " << failed << " required scenario(s) failed their criteria\n";
+    return 1;
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command RegisterRun(CLI::App* app) {
+  auto args = std::make_shared<RunArgs>();
+  CLI::App* cmd = app->add_subcommand(
+      "run", "Run scenario suites in parallel and write their report (default: the paper suite)");
+  cmd->add_option("suites", args->suites,
+                  std::string("Suite files (TOML; default ") + kDefaultSuite + ")");
+  cmd->add_option("--out,-o", args->out,
+                  "Report folder (one suite; default reports/<suite name>), or the parent of the "
+                  "suites' folders (several)");
+  cmd->add_option("--jobs,-j", args->jobs, "Threads (default: all cores)")
+      ->check(CLI::Range(0, 1024));
+  cmd->add_option("--filter", args->filter, "Run only scenarios whose name matches this regex");
+  cmd->add_option("--gnuplot", args->report.gnuplot, "gnuplot executable for the figures");
+  cmd->add_flag("--no-html", [args](std::int64_t) { args->html = false; },
+                "Write the CSV files only");
+  cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but errors and warnings");
+  return {cmd, [args] { return RunRun(*args); }};
+}
+
+}  // namespace rabbit::cli

@@ -1,0 +1,270 @@
+#include "rabbit/control/fuzzy_cmac_walker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "rabbit/learn/cmac.h"
+
+namespace rabbit {
+
+double VelocityProfile::At(double t) const {
+  if (points.empty()) return std::nan("");
+  if (kind == Kind::kConstant || t <= points.front().first) return points.front().second;
+  for (size_t i = 1; i < points.size(); ++i) {
+    const auto& [t1, v1] = points[i];
+    if (t < t1) {
+      const auto& [t0, v0] = points[i - 1];
+      if (kind == Kind::kSteps) return v0;
+      return v0 + (v1 - v0) * (t - t0) / (t1 - t0);
+    }
+  }
+  return points.back().second;
+}
+
+bool VelocityProfile::IsValid(std::string* error) const {
+  if (points.empty()) {
+    *error = "the velocity profile has no points";
+    return false;
+  }
+  for (size_t i = 0; i < points.size(); ++i) {
+    const auto& [t, v] = points[i];
+    if (!std::isfinite(t) || !std::isfinite(v)) {
+      *error = "velocity point " + std::to_string(i + 1) + " is not finite";
+      return false;
+    }
+    if (!(v > 0.0 && v < 3.0)) {
+      *error = "velocity point " + std::to_string(i + 1) + ": V_d must be in (0, 3) m/s";
+      return false;
+    }
+    if (i > 0) {
+      const double before = points[i - 1].first;
+      if (t < before || (kind == Kind::kRamp && t == before)) {
+        *error = "velocity point " + std::to_string(i + 1) + ": times must increase";
+        return false;
+      }
+    }
+  }
+  return true;
+}
+
+const char* VelocityProfileKindName(VelocityProfile::Kind kind) {
+  switch (kind) {
+    case VelocityProfile::Kind::kRamp:
+      return "ramp";
+    case VelocityProfile::Kind::kSteps:
+      return "steps";
+    case VelocityProfile::Kind::kConstant:
+      break;
+  }
+  return "constant";
+}
+
+bool WalkerParams::IsValid(std::string* error) const {
+  const std::pair<const char*, double> values[] = {
+      {"hip_kp", hip_kp},
+      {"hip_kd", hip_kd},
+      {"knee_kp", knee_kp},
+      {"knee_kd", knee_kd},
+      {"stance_knee_kp", stance_knee_kp},
+      {"stance_knee_kd", stance_knee_kd},
+      {"trunk_kp", trunk_kp},
+      {"trunk_kd", trunk_kd},
+      {"d_obs_max", d_obs_max},
+      {"v_m_noise", v_m_noise},
+      {"d_obs_noise", d_obs_noise}};
+  for (const auto& [name, value] : values) {
+    if (!(std::isfinite(value) && value >= 0.0 && value <= 1e5)) {
+      *error = std::string(name) + " must be in [0, 1e5]";
+      return false;
+    }
+  }
+  if (!std::isfinite(k_p) || !std::isfinite(k_v) || std::abs(k_p) > 10 || std::abs(k_v) > 10) {
+    *error = "k_p and k_v must be finite, within 10 (rad per m/s)";
+    return false;
+  }
+  if (!(q0_d_min <= q0_d_max && q0_d_min > -M_PI / 4 && q0_d_max < M_PI / 4)) {
+    *error = "need -45 deg < q0_d_min <= q0_d_max < 45 deg";
+    return false;
+  }
+  if (!(q0_d_initial >= q0_d_min && q0_d_initial <= q0_d_max)) {
+    *error = "q0_d_initial must lie in [q0_d_min, q0_d_max]";
+    return false;
+  }
+  if (!(std::isfinite(v_m_initial) && v_m_initial > 0.0 && v_m_initial < 3.0)) {
+    *error = "v_m_initial must be in (0, 3) m/s";
+    return false;
+  }
+  if (d_obs_max <= 0.0) {
+    *error = "d_obs_max must be > 0";
+    return false;
+  }
+  if (v_m_average_steps < 1 || v_m_average_steps > 100) {
+    *error = "v_m_average_steps must be in [1, 100]";
+    return false;
+  }
+  if (warmup_steps < 0 || warmup_steps > 1000) {
+    *error = "warmup_steps must be in [0, 1000]";
+    return false;
+  }
+  if (warmup_steps > 0 && !warmup.IsValid(error)) {
+    *error = "warm-up rules: " + *error;
+    return false;
+  }
+  if (log_every < 0) {
+    *error = "log_every must be >= 0";
+    return false;
+  }
+  return true;
+}
+
+double ObstacleDistance(const Terrain& terrain, double x, double d_max) {
+  return std::min(terrain.DistanceToNextObstacle(x), d_max);
+}
+
+FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params, FuzzyCmac gait_pattern,
+                                 VelocityProfile velocity, int stance_leg)
+    : p_(params),
+      pattern_(std::move(gait_pattern)),
+      velocity_(std::move(velocity)),
+      warmup_(params.warmup, stance_leg),
+      warming_up_(params.warmup_steps > 0),
+      stance_(stance_leg),
+      q0_d_(params.q0_d_initial),
+      v_m_(params.v_m_initial),
+      rng_(CmacMix64(params.seed)) {
+  std::string error;
+  if (!p_.IsValid(&error)) throw std::invalid_argument("walker: " + error);
+  if (p_.thigh_frame && pattern_.trunk_pitches().empty()) {
+    throw std::invalid_argument("walker: the thigh frame needs the reference gaits' trunk pitches");
+  }
+}
+
+// Standard normal deviate from splitmix64 and Box-Muller: the same numbers on every platform
+// (std::normal_distribution is not specified bit for bit).
+double FuzzyCmacWalker::Gaussian() {
+  auto uniform = [this] {
+    rng_ += 0x9E3779B97F4A7C15ULL;
+    return (static_cast<double>(CmacMix64(rng_) >> 11) + 0.5) * 0x1.0p-53;  // in (0, 1)
+  };
+  const double u1 = uniform(), u2 = uniform();
+  return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
+}
+
+void FuzzyCmacWalker::SetContext(double v_m, double d_obs) {
+  pattern_.SetContext(v_m, d_obs);  // no rule firing keeps the previous weights
+  if (p_.nearest_gait) pattern_.KeepStrongestRuleOnly();
+}
+
+void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
+  const StepRecord& step = meter_.last_step();
+  const double v_d = velocity_.At(obs.t);
+  // V_M is measured only when the leg's take-off was seen (not the first landing).
+  if (step.t_step > 0.0) {
+    measured_.push_back(
+        std::max(0.0, step.v_m + (p_.v_m_noise > 0.0 ? p_.v_m_noise * Gaussian() : 0.0)));
+    const size_t n = std::min(measured_.size(), static_cast<size_t>(p_.v_m_average_steps));
+    double sum = 0.0;
+    for (size_t i = measured_.size() - n; i < measured_.size(); ++i) sum += measured_[i];
+    v_m_ = sum / static_cast<double>(n);
+  }
+  if (step.t_step > 0.0 && !warming_up_) {
+    const double error = v_d - v_m_;
+    double dq0 = p_.k_p * error;
+    if (have_error_) dq0 += p_.k_v * (error - last_error_) / step.t_step;
+    q0_d_ = std::clamp(q0_d_ + dq0, p_.q0_d_min, p_.q0_d_max);
+    last_error_ = error;
+    have_error_ = true;
+  }
+  const double front = obs.foot_pos[step.leg].x();
+  double d_obs = obs.terrain != nullptr
+                     ? ObstacleDistance(*obs.terrain, front, p_.d_obs_max)
+                     : p_.d_obs_max;
+  if (p_.d_obs_noise > 0.0) {
+    d_obs = std::clamp(d_obs + p_.d_obs_noise * Gaussian(), 0.0, p_.d_obs_max);
+  }
+  SetContext(v_m_, d_obs);
+  WalkerStep record;
+  record.step = step;
+  record.v_d = v_d;
+  record.v_m_used = v_m_;
+  record.d_obs = d_obs;
+  record.q0_d = q0_d_;
+  record.weights = pattern_.gait_weights();
+  record.activation = pattern_.rule_activations().activation;
+  record.walker_active = !warming_up_;
+  steps_.push_back(std::move(record));
+}
+
+double FuzzyCmacWalker::ClearanceActivation(const Terrain& terrain, double foot_x) const {
+  double a = 0.0;
+  for (const Obstacle& o : terrain.obstacles) {
+    const double lo = o.x_start - p_.clearance_lead, hi = o.x_end() + p_.clearance_trail;
+    const double outside = foot_x < lo ? lo - foot_x : (foot_x > hi ? foot_x - hi : 0.0);
+    a = std::max(a, p_.clearance_fade > 0.0 ? 1.0 - outside / p_.clearance_fade
+                                            : (outside > 0.0 ? 0.0 : 1.0));
+  }
+  return std::clamp(a, 0.0, 1.0);
+}
+
+Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
+  if (periods_ == 0) {
+    // The first step's context: the assumed V_M and the obstacle ahead of the stance foot.
+    const double d_obs = obs.terrain != nullptr
+                             ? ObstacleDistance(*obs.terrain, obs.foot_pos[stance_].x(),
+                                                p_.d_obs_max)
+                             : p_.d_obs_max;
+    SetContext(v_m_, d_obs);
+  }
+  const int swing = 1 - stance_;
+  if (meter_.Update(obs) && meter_.last_step().leg == swing) {
+    stance_ = swing;
+    if (warming_up_ && static_cast<int>(meter_.steps().size()) >= p_.warmup_steps) {
+      warming_up_ = false;
+    }
+    OnTouchdown(obs);
+  }
+  if (warming_up_) {
+    const Vec4 tau = warmup_.Compute(obs);
+    if (p_.log_every > 0 && periods_ % p_.log_every == 0) {
+      const int sw_hip = 3 + 2 * (1 - stance_);
+      tracking_.push_back({obs.t, stance_, obs.q[3 + 2 * stance_], std::nan(""), obs.q[sw_hip],
+                           std::nan(""), obs.q[sw_hip + 1], p_.warmup.q0_d, obs.q[kQ0]});
+    }
+    ++periods_;
+    return tau;
+  }
+  const int st = stance_, sw = 1 - stance_;
+  const int st_hip = 3 + 2 * st, sw_hip = 3 + 2 * sw;
+  const Vec7& q = obs.q;
+  const Vec7& qd = obs.qd;
+  const double e = q[st_hip];
+  Eigen::Vector4d ref;
+  if (p_.thigh_frame) {
+    ref = pattern_.QueryThigh(e - q[kQ0]);
+    ref[0] += q[kQ0];  // swing thigh's absolute angle -> the hip joint's angle
+    ref[2] += qd[kQ0];
+  } else {
+    ref = pattern_.Query(e);
+  }
+  if ((p_.clearance_knee != 0.0 || p_.clearance_hip != 0.0) && obs.terrain != nullptr &&
+      !obs.foot_contact[sw]) {
+    const double a = ClearanceActivation(*obs.terrain, obs.foot_pos[sw].x());
+    ref[0] += a * p_.clearance_hip;
+    ref[1] -= a * p_.clearance_knee;
+  }
+  Vec4 tau;
+  tau[2 * sw] = p_.hip_kp * (ref[0] - q[sw_hip]) + p_.hip_kd * (ref[2] - qd[sw_hip]);
+  tau[2 * sw + 1] = p_.knee_kp * (ref[1] - q[sw_hip + 1]) + p_.knee_kd * (ref[3] - qd[sw_hip + 1]);
+  tau[2 * st + 1] = -p_.stance_knee_kp * q[st_hip + 1] - p_.stance_knee_kd * qd[st_hip + 1];
+  tau[2 * st] = p_.trunk_kp * (q0_d_ - q[kQ0]) - p_.trunk_kd * qd[kQ0];
+  if (!tau.allFinite()) tau.setZero();  // NaN measurements: no torque (the run reports the fall)
+  if (p_.log_every > 0 && periods_ % p_.log_every == 0) {
+    tracking_.push_back({obs.t, st, e, ref[0], q[sw_hip], ref[1], q[sw_hip + 1], q0_d_, q[kQ0]});
+  }
+  ++periods_;
+  return tau;
+}
+
+}  // namespace rabbit

@@ -1,0 +1,154 @@
+// The closed-loop walker of the chapter (section 5, figure 9; DESIGN.md section 3):
+//   gait pattern   the Fuzzy-CMAC: every control period the swing leg's references
+//                  [q_i1_d, q_i2_d, qd_i1_d, qd_i2_d] = Y(e) with e = q_st1, the stance hip angle
+//                  (eq. 13); the fuzzy system is evaluated once per step, at touchdown, at
+//                  X = [V_M, d_obs] and held during the step;
+//   velocity       once per step q0_d(n+1) = q0_d(n) + K_P (V_d - V_M) + K_V d/dt (V_d - V_M)
+//                  (eqs. 19-20; the derivative is the change of the error over the last step
+//                  divided by t_step), clamped to [q0_d_min, q0_d_max];
+//   PD             swing hip and knee track the gait pattern (eqs. 21-22), stance knee locked at 0
+//                  (eq. 23), stance hip holds the trunk at q0_d (eq. 24).
+// Perception: V_M is the gait meter's last complete step (eq. 1); d_obs the horizontal distance from
+// the front (new stance) foot to the near edge of the next obstacle ahead, saturated at d_obs_max.
+// Both may carry Gaussian noise from a seeded generator (deterministic for a seed).
+//
+// Support exchange, as for the pragmatic rules: when the swing foot lands (after at least the gait
+// meter's min_air_time in the air), legs swap roles.
+#ifndef RABBIT_CONTROL_FUZZY_CMAC_WALKER_H_
+#define RABBIT_CONTROL_FUZZY_CMAC_WALKER_H_
+
+#include <cstdint>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "rabbit/control/gait_meter.h"
+#include "rabbit/control/pragmatic_rules.h"
+#include "rabbit/learn/fuzzy_cmac.h"
+#include "rabbit/sim/controller.h"
+
+namespace rabbit {
+
+// The desired average velocity V_d(t), from points (t_s, v_m_s) sorted by time:
+//   constant  one point (or V_d of the first point everywhere);
+//   ramp      piecewise linear between the points, constant before the first and after the last;
+//   steps     each point's value held from its time until the next point's.
+struct VelocityProfile {
+  enum class Kind { kConstant, kRamp, kSteps };
+  Kind kind = Kind::kConstant;
+  std::vector<std::pair<double, double>> points = {{0.0, 0.6}};
+  double At(double t) const;
+  // At least one point, finite, times ascending (strictly for ramps), velocities in (0, 3) m/s.
+  bool IsValid(std::string* error) const;
+};
+const char* VelocityProfileKindName(VelocityProfile::Kind kind);
+
+struct WalkerParams {
+  // PD gains (N m/rad, N m s/rad): swing hip (eq. 21), swing knee (eq. 22), stance knee (eq. 23),
+  // trunk through the stance hip (eq. 24).
+  double hip_kp = 600.0, hip_kd = 25.0;
+  double knee_kp = 500.0, knee_kd = 20.0;
+  double stance_knee_kp = 900.0, stance_knee_kd = 35.0;
+  double trunk_kp = 400.0, trunk_kd = 40.0;
+  // Velocity control (eqs. 19-20): rad per m/s, rad s per m/s... (K_V multiplies a rate of the error).
+  double k_p = 0.15, k_v = 0.0;
+  double q0_d_min = -0.10, q0_d_max = 0.30;  // rad: the range q0_d is clamped to
+  double q0_d_initial = 0.07;                // rad: q0_d before the first step
+  double v_m_initial = 0.6;                  // m/s: V_M assumed before the first measured step
+  // V_M given to the FIS and the velocity control: the mean of the last `v_m_average_steps`
+  // measured steps (1: the chapter's per-step value; 2, the default, averages one step of each leg,
+  // whose step-to-step alternation would otherwise drive the fuzzy blend).
+  int v_m_average_steps = 2;
+  // Perception.
+  double d_obs_max = 1.0;  // m: d_obs saturates here (>= 0.5 m means no obstacle to the FIS)
+  double v_m_noise = 0.0;  // m/s, standard deviation of the noise on V_M
+  double d_obs_noise = 0.0;  // m, standard deviation of the noise on d_obs
+  std::uint64_t seed = 1;    // of the noise
+  // Frame of the gait pattern: true (default) the thigh frame (FuzzyCmac::QueryThigh: stance
+  // thigh's absolute angle in, swing thigh's out, each gait at its own trunk pitch; needs
+  // SetTrunkPitches); false the chapter's e = q_st1 and q_sw1 relative to the trunk.
+  bool thigh_frame = true;
+  // Clearance reflex (beyond the chapter; 0 angles = off): while the swing foot is within
+  // `clearance_lead` before an obstacle's near edge, over it, or within `clearance_trail` past its
+  // far edge, the swing knee's reference flexes by clearance_knee and the swing hip's by
+  // clearance_hip (rad), faded in and out linearly over clearance_fade (m). The reference gaits lift
+  // the foot about 2 cm in the front half of the swing, not enough for a 5 cm obstacle.
+  double clearance_knee = 0.0, clearance_hip = 0.0;
+  double clearance_lead = 0.10, clearance_trail = 0.03, clearance_fade = 0.05;
+  // Baseline: instead of blending, use only the gait of the strongest rule (nearest-gait switching).
+  bool nearest_gait = false;
+  // Start: the first `warmup_steps` steps walk with the pragmatic rules `warmup` (the start gait's),
+  // and the Fuzzy-CMAC takes over at the touchdown that ends them (0: from t = 0).
+  int warmup_steps = 0;
+  PragmaticParams warmup;
+  // Keep the tracking log (references and measurements) every n-th control period (0: none).
+  int log_every = 1;
+  bool IsValid(std::string* error) const;
+};
+
+// One step as the walker saw it, at the touchdown that ended it.
+struct WalkerStep {
+  StepRecord step;                // gait meter's record (index, leg, t, L_step, t_step, V_M)
+  double v_d = 0.0;               // desired velocity at the touchdown, m/s
+  double v_m_used = 0.0;          // V_M given to the FIS and the velocity control (with noise)
+  double d_obs = 0.0;             // perceived d_obs for the next step (with noise), m
+  double q0_d = 0.0;              // desired trunk pitch for the next step, rad
+  std::vector<double> weights;    // per reference gait, summing to 1
+  std::vector<double> activation; // per rule (normalised)
+  bool walker_active = true;      // false during the pragmatic warm-up
+};
+
+// One line of the tracking log.
+struct WalkerTrack {
+  double t = 0.0;
+  int stance = 0;
+  double e = 0.0;
+  double hip_ref = 0.0, hip = 0.0, knee_ref = 0.0, knee = 0.0;  // swing leg, rad
+  double q0_d = 0.0, q0 = 0.0;
+};
+
+class FuzzyCmacWalker final : public Controller {
+ public:
+  // gait_pattern is copied (its fuzzy context is per-walker state). stance_leg: in support at t=0.
+  FuzzyCmacWalker(const WalkerParams& params, FuzzyCmac gait_pattern, VelocityProfile velocity,
+                  int stance_leg);
+  Vec4 Compute(const Observation& obs) override;
+
+  const std::vector<WalkerStep>& steps() const { return steps_; }
+  const std::vector<WalkerTrack>& tracking() const { return tracking_; }
+  const GaitMeter& meter() const { return meter_; }
+  const FuzzyCmac& gait_pattern() const { return pattern_; }
+  double q0_d() const { return q0_d_; }
+  bool warming_up() const { return warming_up_; }
+
+ private:
+  void OnTouchdown(const Observation& obs);
+  void SetContext(double v_m, double d_obs);
+  double Gaussian();
+  double ClearanceActivation(const Terrain& terrain, double foot_x) const;
+
+  WalkerParams p_;
+  FuzzyCmac pattern_;
+  VelocityProfile velocity_;
+  GaitMeter meter_;
+  PragmaticController warmup_;
+  bool warming_up_;
+  int stance_;
+  double q0_d_;
+  double v_m_;                 // V_M in use (noisy)
+  std::vector<double> measured_;  // measured per-step V_M (noisy), for the running mean
+  double last_error_ = 0.0;    // V_d - V_M at the previous step
+  bool have_error_ = false;
+  std::uint64_t rng_;
+  long periods_ = 0;
+  std::vector<WalkerStep> steps_;
+  std::vector<WalkerTrack> tracking_;
+};
+
+// Perceived distance from x (the front foot) to the near edge of the next obstacle ahead,
+// saturated at d_max (DESIGN.md section 3).
+double ObstacleDistance(const Terrain& terrain, double x, double d_max);
+
+}  // namespace rabbit
+
+#endif  // RABBIT_CONTROL_FUZZY_CMAC_WALKER_H_

@@ -1,0 +1,117 @@
+#include "rabbit/report/run_files.h"
+
+#include <cmath>
+#include <filesystem>
+#include <iomanip>
+#include <sstream>
+
+#include "rabbit/io/atomic_file.h"
+#include "rabbit/scenario/trajectory_csv.h"
+
+namespace rabbit {
+namespace {
+
+constexpr double kRadToDeg = 180.0 / M_PI;
+
+// A CSV cell: text without commas, quotes or newlines stays as is; anything else is quoted.
+std::string Cell(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += (c == '\n' || c == '\r') ? ' ' : c;
+  }
+  return out + "\"";
+}
+
+std::string Number(double v) {
+  if (std::isnan(v)) return "nan";
+  std::ostringstream out;
+  out << std::setprecision(10) << v;
+  return out.str();
+}
+
+}  // namespace
+
+void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::string& dir) {
+  namespace fs = std::filesystem;
+  const fs::path base = fs::path(dir) / run.run;
+  const ModelParams& m = scenario.model;
+  WriteFileAtomically((base / "meta.csv").string(), [&](std::ostream& out) {
+    out << "key,value\n"
+        << "scenario," << Cell(run.scenario) << "\nvariant," << run.variant << "\ndescription,"
+        << Cell(scenario.description) << "\nthigh_length_m," << Number(m.thigh_length)
+        << "\nshin_length_m," << Number(m.shin_length) << "\ntrunk_length_m,"
+        << Number(m.trunk_length) << "\ncontrol_period_s,"
+        << Number(scenario.options.control_period) << "\nvelocity_profile,"
+        << VelocityProfileKindName(scenario.velocity.kind) << "\nstart_gait,"
+        << Cell(scenario.start_gait) << "\nseed," << scenario.seed << "\noutcome,"
+        << OutcomeName(run.sim.outcome) << "\nreason," << Cell(run.sim.reason) << "\n";
+  });
+  WriteTrajectoryCsvFile(run.sim, (base / "trajectory.csv").string());
+  size_t gaits = 0;
+  for (const StepRow& s : run.steps) gaits = std::max(gaits, s.weights.size());
+  WriteFileAtomically((base / "steps.csv").string(), [&](std::ostream& out) {
+    out << "step,leg,t_s,x_m,v_d_m_s,v_m_m_s,v_m_used_m_s,l_step_m,t_step_s,d_obs_m,q0_d_deg";
+    for (size_t k = 1; k <= gaits; ++k) out << ",w_O" << k;
+    out << ",rules\n";
+    for (const StepRow& s : run.steps) {
+      const bool measured = s.step.t_step > 0.0;
+      out << s.step.index << ',' << s.step.leg + 1 << ',' << Number(s.step.t_touchdown) << ','
+          << Number(s.step.x) << ',' << Number(s.v_d) << ','
+          << (measured ? Number(s.step.v_m) : "nan") << ','
+          << (measured ? Number(s.v_m_used) : "nan") << ',' << Number(s.step.l_step) << ','
+          << (measured ? Number(s.step.t_step) : "nan") << ',' << Number(s.d_obs) << ','
+          << Number(s.q0_d * kRadToDeg);
+      for (size_t k = 0; k < gaits; ++k) {
+        out << ',' << (k < s.weights.size() ? Number(s.weights[k]) : "nan");
+      }
+      out << ',' << Cell(s.rules) << '\n';
+    }
+  });
+  WriteFileAtomically((base / "tracking.csv").string(), [&](std::ostream& out) {
+    out << "t_s,stance_leg,e_rad,q_sw1_d_rad,q_sw1_rad,q_sw2_d_rad,q_sw2_rad,q0_d_rad,q0_rad\n";
+    for (const WalkerTrack& t : run.tracking) {
+      out << Number(t.t) << ',' << t.stance + 1 << ',' << Number(t.e) << ',' << Number(t.hip_ref)
+          << ',' << Number(t.hip) << ',' << Number(t.knee_ref) << ',' << Number(t.knee) << ','
+          << Number(t.q0_d) << ',' << Number(t.q0) << '\n';
+    }
+  });
+  WriteFileAtomically((base / "terrain.csv").string(), [&](std::ostream& out) {
+    out << "x_start_m,length_m,height_m\n";
+    for (const Obstacle& o : scenario.terrain.obstacles) {
+      out << Number(o.x_start) << ',' << Number(o.length) << ',' << Number(o.height) << '\n';
+    }
+  });
+}
+
+std::string SummaryHeader() {
+  return "suite,scenario,variant,run,controller,outcome,reason,passed,failed_criteria,duration_s,"
+         "distance_m,steps,mean_abs_speed_error_m_s,final_abs_speed_error_m_s,l_step_mean_m,"
+         "l_step_min_m,l_step_max_m,l_step_spread_m,saturation_s,energy_j,cost_of_transport,"
+         "wall_s,real_time_factor";
+}
+
+const std::vector<std::string>& WallTimeColumns() {
+  static const std::vector<std::string> columns = {"wall_s", "real_time_factor"};
+  return columns;
+}
+
+std::string SummaryRow(const std::string& suite, const RunOutput& run) {
+  std::string failed;
+  for (const std::string& f : run.failures) failed += (failed.empty() ? "" : ";") + f;
+  const RunMetrics& m = run.metrics;
+  std::ostringstream out;
+  out << Cell(suite) << ',' << Cell(run.scenario) << ',' << run.variant << ',' << Cell(run.run)
+      << ',' << run.controller << ',' << OutcomeName(run.sim.outcome) << ',' << Cell(run.sim.reason)
+      << ',' << (run.passed ? 1 : 0) << ',' << Cell(failed) << ',' << Number(m.duration) << ','
+      << Number(m.distance) << ',' << m.steps << ',' << Number(m.mean_abs_speed_error) << ','
+      << Number(m.final_abs_speed_error) << ',' << Number(m.l_step_mean) << ','
+      << Number(m.l_step_min) << ',' << Number(m.l_step_max) << ',' << Number(m.l_step_spread)
+      << ',' << Number(m.saturation) << ',' << Number(m.energy) << ','
+      << Number(m.cost_of_transport) << ',' << Number(run.wall) << ','
+      << Number(run.wall > 0.0 ? m.duration / run.wall : std::nan(""));
+  return out.str();
+}
+
+}  // namespace rabbit

@@ -1,0 +1,71 @@
+// The HTML report of a batch run (`rabbit run`), built afterwards from the CSV files the run wrote,
+// never from live objects, so it can be rebuilt (`rabbit report DIR`) without re-running.
+//
+// Input, a report directory DIR:
+//   DIR/summary.csv           one row per run (suite, scenario, variant, run, outcome, criteria,
+//                             figures); `run` names the run's folder
+//   DIR/<run>/meta.csv        key,value: at least thigh_length_m, shin_length_m, trunk_length_m
+//   DIR/<run>/trajectory.csv  the time series of WriteTrajectoryCsv (typically decimated)
+//   DIR/<run>/steps.csv       one row per step: V_d, V_M, L_step, d_obs, fuzzy weights w_Ok, rules
+//   DIR/<run>/tracking.csv    swing hip and knee, reference and actual
+//   DIR/<run>/terrain.csv     the obstacles
+// Output, DIR/index.html: one self-contained page (inline CSS, JS, and figures as data: images):
+// the summary table grouped by scenario (baselines beside the main variant), then per scenario
+// the chapter's figures (stick diagrams at the start and around the first obstacle, V_d / V_M /
+// L_step per step with the baselines overlaid, joint tracking, fuzzy weights per step), drawn by
+// one gnuplot process, and an animated stick-figure replay of every run.
+#ifndef RABBIT_REPORT_SUITE_REPORT_H_
+#define RABBIT_REPORT_SUITE_REPORT_H_
+
+#include <array>
+#include <string>
+#include <vector>
+
+namespace rabbit {
+
+struct SuiteReportOptions {
+  std::string gnuplot = "gnuplot";  // the plotter's executable (searched on PATH without a '/')
+  double gnuplot_timeout = 60.0;    // s; gnuplot is killed after this and the figures left out
+  int replay_fps = 25;              // frames per second of the embedded animation
+  int replay_decimals = 4;          // decimals of the replay's coordinates (m) and times (s)
+  double stick_every = 0.1;         // s between drawn figures in stick diagrams
+  double stick_window = 3.0;        // s of walking shown per stick diagram (chapter's ~2.8 s)
+  double tracking_window = 3.0;     // s of joint tracking shown
+  int figure_width = 1000;          // px, width of every figure's SVG canvas
+  // Positive finite times, replay_fps 1..240, replay_decimals 1..9, stick_window / stick_every
+  // at most 1000 figures, figure_width 300..4000, a non-empty gnuplot without newlines.
+  bool IsValid(std::string* error) const;
+};
+
+// Reads DIR/summary.csv and every run's files, writes DIR/index.html atomically and returns its
+// path. When gnuplot cannot be run (or fails) appends one warning to *warnings (may be null) and
+// writes the page with the tables and replays but without figures: never a failure for that.
+// Throws InputError (file, line, column or key) for a missing or malformed CSV, and
+// std::invalid_argument for invalid options.
+std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& options,
+                             std::vector<std::string>* warnings);
+
+// Link lengths for drawing, m.
+struct LinkLengths {
+  double thigh = 0.40;
+  double shin = 0.47;
+  double trunk = 0.625;
+};
+
+struct StickPoint {
+  double x = 0.0, y = 0.0;
+};
+
+// The points of the stick figure at q = [x, y, q0, q11, q12, q21, q22] (model.h): the hip at
+// (x, y); the trunk's top at hip + trunk (sin q0, cos q0); per leg i the thigh's absolute angle
+// th_i = qi1 - q0 from the downward vertical, knee = hip + thigh (sin th_i, -cos th_i), the shin's
+// sh_i = th_i + qi2, foot = knee + shin (sin sh_i, -cos sh_i).
+struct StickFigure {
+  StickPoint hip, trunk_top;
+  std::array<StickPoint, 2> knee, foot;  // legs 1 and 2
+};
+StickFigure StickPoints(const std::array<double, 7>& q, const LinkLengths& lengths);
+
+}  // namespace rabbit
+
+#endif  // RABBIT_REPORT_SUITE_REPORT_H_

@@ -1,0 +1,34 @@
+// Batch runs: every scenario of some suites with each of its variants, on a pool of threads.
+// Each run is a pure function of its scenario (seeded), so results do not depend on the number of
+// threads or on the order in which runs finish.
+#ifndef RABBIT_SCENARIO_BATCH_H_
+#define RABBIT_SCENARIO_BATCH_H_
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "rabbit/scenario/run.h"
+#include "rabbit/scenario/suite.h"
+
+namespace rabbit {
+
+struct BatchJob {
+  const Scenario* scenario = nullptr;
+  std::string variant;
+};
+
+// The runs of a suite: each scenario whose name matches `filter` (ECMAScript regex, searched;
+// empty = all), with its main variant then its baselines. Throws InputError for a bad regex.
+std::vector<BatchJob> PlanBatch(const Suite& suite, const std::string& filter);
+
+// Runs the jobs on `threads` threads (0: all cores). Loads each gait library once. For every
+// finished run calls on_done(job index, run) from the worker thread that ran it, serialised by a
+// mutex (so it may write files and print). Stops taking new jobs after an exception in a run or
+// in on_done, and rethrows the first one once all threads have finished.
+void RunBatch(const std::vector<BatchJob>& jobs, int threads,
+              const std::function<void(size_t, RunOutput&&)>& on_done);
+
+}  // namespace rabbit
+
+#endif  // RABBIT_SCENARIO_BATCH_H_

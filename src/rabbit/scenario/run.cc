@@ -1,0 +1,296 @@
+#include "rabbit/scenario/run.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <limits>
+
+#include "rabbit/control/pragmatic_rules.h"
+#include "rabbit/io/error.h"
+#include "rabbit/learn/fll.h"
+#include "rabbit/learn/gait_pattern.h"
+
+namespace rabbit {
+namespace {
+
+const char* MainVariant(const Scenario& s) {
+  switch (s.controller) {
+    case ControllerKind::kFuzzyCmac:
+      return "fuzzy_cmac";
+    case ControllerKind::kPragmatic:
+      return "pragmatic";
+    case ControllerKind::kPdHold:
+      return "pd_hold";
+    case ControllerKind::kPassive:
+      break;
+  }
+  return "passive";
+}
+
+// "d_obs set/V_M set:activation;..." for the rules that fired.
+std::string FiringRules(const TsFis& fis, const std::vector<double>& activation) {
+  int v_m = 0, d_obs = 1;
+  if (fis.inputs.size() == 2 && fis.inputs[0].name == "d_obs") std::swap(v_m, d_obs);
+  std::string out;
+  for (size_t r = 0; r < fis.rules.size() && r < activation.size(); ++r) {
+    if (activation[r] <= 0.0) continue;
+    const std::vector<int>& a = fis.rules[r].antecedent;
+    char value[32];
+    std::snprintf(value, sizeof value, ":%.3f", activation[r]);
+    if (!out.empty()) out += ';';
+    out += fis.inputs[d_obs].sets[a[d_obs]].name + "/" + fis.inputs[v_m].sets[a[v_m]].name + value;
+  }
+  return out;
+}
+
+bool Measured(const StepRow& s) { return s.step.t_step > 0.0; }
+
+}  // namespace
+
+std::shared_ptr<const GaitLibrary> LoadGaitLibrary(const GaitPatternFiles& files) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> names;
+  std::vector<GaitCmacs> networks = LoadGaitNetworks(files.networks, &names);
+  TsFis fis = LoadFll(files.fll);
+  const std::string index_path = (fs::path(files.gaits) / "index.csv").string();
+  const std::vector<GaitIndexEntry> index = ReadGaitIndex(index_path);
+  std::vector<GaitRecord> gaits;
+  std::vector<double> pitches;
+  for (const std::string& name : names) {
+    const auto entry = std::find_if(index.begin(), index.end(),
+                                    [&name](const GaitIndexEntry& e) { return e.name == name; });
+    if (entry == index.end()) {
+      throw InputError(index_path, 0, name,
+                       "the networks in " + files.networks + " learnt gait \"" + name +
+                           "\", which the gait database does not list");
+    }
+    gaits.push_back(ReadGaitFile((fs::path(files.gaits) / entry->file).string()));
+    pitches.push_back(gaits.back().spec.rules.q0_d);
+  }
+  try {
+    auto library = std::make_shared<GaitLibrary>(
+        GaitLibrary{files, FuzzyCmac(std::move(fis), std::move(networks)), names, gaits});
+    library->pattern.SetTrunkPitches(pitches);
+    return library;
+  } catch (const std::invalid_argument& e) {
+    throw InputError(files.fll, 0, "", std::string(e.what()) + " (networks: " + files.networks + ")");
+  }
+}
+
+std::shared_ptr<const GaitLibrary> GaitLibraryCache::Get(const GaitPatternFiles& files) {
+  namespace fs = std::filesystem;
+  const std::string key = fs::weakly_canonical(files.fll).string() + "\n" +
+                          fs::weakly_canonical(files.networks).string() + "\n" +
+                          fs::weakly_canonical(files.gaits).string();
+  std::lock_guard<std::mutex> lock(mutex_);
+  auto found = loaded_.find(key);
+  if (found != loaded_.end()) return found->second;
+  std::shared_ptr<const GaitLibrary> library = LoadGaitLibrary(files);
+  loaded_[key] = library;
+  return library;
+}
+
+std::vector<std::string> ScenarioVariants(const Scenario& scenario) {
+  std::vector<std::string> variants = {MainVariant(scenario)};
+  for (const std::string& b : scenario.baselines) variants.push_back(b);
+  return variants;
+}
+
+std::string RunName(const Scenario& scenario, const std::string& variant) {
+  return variant == MainVariant(scenario) ? scenario.name : scenario.name + "+" + variant;
+}
+
+RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
+                      const GaitLibrary* library) {
+  const auto start = std::chrono::steady_clock::now();
+  RunOutput out;
+  out.scenario = scenario.name;
+  out.variant = variant;
+  out.run = RunName(scenario, variant);
+  out.controller = variant;
+  const Model model(scenario.model);
+  const SimSetup setup = MakeSimSetup(scenario, &model);
+  const bool walker = variant == "fuzzy_cmac" || variant == "nearest_gait";
+  if ((walker || scenario.controller == ControllerKind::kFuzzyCmac) && library == nullptr) {
+    throw std::invalid_argument("RunScenario: walker scenarios need their gait library");
+  }
+  if (walker) {
+    WalkerParams params = scenario.walker;
+    params.nearest_gait = variant == "nearest_gait";
+    params.log_every = scenario.options.record_every;
+    FuzzyCmacWalker controller(params, library->pattern, scenario.velocity, 0);
+    out.sim = Simulate(setup, scenario.q0, scenario.qd0, &controller);
+    for (const WalkerStep& w : controller.steps()) {
+      out.steps.push_back({w.step, w.v_d, w.v_m_used, w.d_obs, w.q0_d, w.weights,
+                           FiringRules(library->pattern.fis(), w.activation)});
+    }
+    out.tracking = controller.tracking();
+  } else if (variant == "pragmatic") {
+    // The pragmatic rules of the start gait (for a walker scenario) or of the scenario's gait.
+    const PragmaticParams& rules = scenario.walking.rules;
+    PragmaticController controller(rules, 0);
+    out.sim = Simulate(setup, scenario.q0, scenario.qd0, &controller);
+    std::vector<double> weights;
+    if (library != nullptr) {
+      for (const std::string& name : library->gait_names) {
+        weights.push_back(name == scenario.start_gait ? 1.0 : 0.0);
+      }
+    }
+    const double d_max = scenario.walker.d_obs_max;
+    for (const StepRecord& s : controller.meter().steps()) {
+      out.steps.push_back({s, scenario.velocity.At(s.t_touchdown), s.v_m,
+                           ObstacleDistance(scenario.terrain, s.x, d_max), rules.q0_d, weights,
+                           ""});
+    }
+  } else {
+    std::unique_ptr<Controller> controller = MakeController(scenario);
+    out.sim = Simulate(setup, scenario.q0, scenario.qd0, controller.get());
+  }
+  out.metrics = ComputeMetrics(scenario, model, out.sim, out.steps);
+  EvaluateCriteria(scenario, &out);
+  out.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+RunMetrics ComputeMetrics(const Scenario& scenario, const Model& model, const SimResult& sim,
+                          const std::vector<StepRow>& steps) {
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  RunMetrics m;
+  m.duration = sim.t_end;
+  m.distance = sim.samples.empty() ? nan : sim.samples.back().q[kX] - scenario.q0[kX];
+  m.steps = static_cast<int>(steps.size());
+  for (int j = 0; j < kNumJoints; ++j) {
+    m.saturation += sim.saturation_time(j, scenario.options.control_period);
+  }
+  m.energy = sim.positive_work;
+  m.cost_of_transport = m.distance > 0.1 ? m.energy / (model.total_mass() *
+                                                       model.params().gravity * m.distance)
+                                         : nan;
+  std::vector<const StepRow*> measured;
+  for (const StepRow& s : steps) {
+    if (Measured(s)) measured.push_back(&s);
+  }
+  if (measured.empty()) {
+    m.mean_abs_speed_error = m.final_abs_speed_error = nan;
+    m.l_step_mean = m.l_step_min = m.l_step_max = m.l_step_spread = nan;
+    return m;
+  }
+  m.l_step_min = std::numeric_limits<double>::infinity();
+  m.l_step_max = -m.l_step_min;
+  for (const StepRow* s : measured) {
+    m.mean_abs_speed_error += std::abs(s->step.v_m - s->v_d) / static_cast<double>(measured.size());
+    m.l_step_mean += s->step.l_step / static_cast<double>(measured.size());
+    m.l_step_min = std::min(m.l_step_min, s->step.l_step);
+    m.l_step_max = std::max(m.l_step_max, s->step.l_step);
+  }
+  const size_t n = measured.size();
+  const double stride = n >= 2 ? 0.5 * (measured[n - 1]->step.v_m + measured[n - 2]->step.v_m)
+                               : measured[n - 1]->step.v_m;
+  m.final_abs_speed_error = std::abs(stride - measured[n - 1]->v_d);
+  const size_t window = std::min(n, static_cast<size_t>(scenario.criteria.spread_steps));
+  double lo = std::numeric_limits<double>::infinity(), hi = -lo;
+  for (size_t i = n - window; i < n; ++i) {
+    lo = std::min(lo, measured[i]->step.l_step);
+    hi = std::max(hi, measured[i]->step.l_step);
+  }
+  m.l_step_spread = hi - lo;
+  return m;
+}
+
+void EvaluateCriteria(const Scenario& scenario, RunOutput* run) {
+  const PassCriteria& c = scenario.criteria;
+  std::vector<std::string>& fail = run->failures;
+  char text[256];
+  const std::string outcome = OutcomeName(run->sim.outcome);
+  if (!scenario.expected_outcome.empty() && outcome != scenario.expected_outcome) {
+    fail.push_back("outcome " + outcome + " (expected " + scenario.expected_outcome + ")" +
+                   (run->sim.reason.empty() ? "" : ": " + run->sim.reason));
+  }
+  if (run->metrics.steps < c.min_steps) {
+    std::snprintf(text, sizeof text, "%d steps (at least %d required)", run->metrics.steps,
+                  c.min_steps);
+    fail.push_back(text);
+  }
+  if (c.min_distance > 0.0 && !(run->metrics.distance >= c.min_distance)) {
+    std::snprintf(text, sizeof text, "walked %.2f m (at least %.2f m required)",
+                  run->metrics.distance, c.min_distance);
+    fail.push_back(text);
+  }
+  std::vector<const StepRow*> measured;
+  for (const StepRow& s : run->steps) {
+    if (Measured(s)) measured.push_back(&s);
+  }
+  if (std::isfinite(c.max_l_step_spread)) {
+    if (static_cast<int>(measured.size()) < c.spread_steps) {
+      std::snprintf(text, sizeof text, "only %zu measured steps for the L_step spread (need %d)",
+                    measured.size(), c.spread_steps);
+      fail.push_back(text);
+    } else if (!(run->metrics.l_step_spread <= c.max_l_step_spread)) {
+      std::snprintf(text, sizeof text, "L_step spread %.4f m over the last %d steps (at most %.4f m)",
+                    run->metrics.l_step_spread, c.spread_steps, c.max_l_step_spread);
+      fail.push_back(text);
+    }
+  }
+  if (std::isfinite(c.speed_tolerance)) {
+    int checked = 0, off = 0;
+    double worst = 0.0, worst_t = 0.0;
+    for (size_t i = 1; i < measured.size(); ++i) {
+      const double v_d = measured[i]->v_d;
+      if (v_d > c.track_up_to) continue;
+      if (static_cast<int>(i) < c.settle_steps) continue;
+      bool settled = true;
+      for (size_t j = i - static_cast<size_t>(c.settle_steps); j < i; ++j) {
+        settled = settled && measured[j]->v_d == v_d;
+      }
+      if (!settled) continue;
+      ++checked;
+      const double stride = 0.5 * (measured[i]->step.v_m + measured[i - 1]->step.v_m);
+      const double error = std::abs(stride - v_d);
+      if (error > c.speed_tolerance) ++off;
+      if (error > worst) {
+        worst = error;
+        worst_t = measured[i]->step.t_touchdown;
+      }
+    }
+    if (checked == 0) {
+      fail.push_back("no step to check velocity tracking on (V_d never held for " +
+                     std::to_string(c.settle_steps) + " steps)");
+    } else if (off > 0) {
+      std::snprintf(text, sizeof text,
+                    "stride V_M off V_d by more than %.3f m/s at %d of %d settled steps (worst "
+                    "%.3f m/s at t = %.2f s)",
+                    c.speed_tolerance, off, checked, worst, worst_t);
+      fail.push_back(text);
+    }
+  }
+  const std::vector<Obstacle>& obstacles = scenario.terrain.obstacles;
+  if (!obstacles.empty()) {
+    if (!c.allow_obstacle_contact) {
+      for (const ContactEvent& e : run->sim.events) {
+        if (e.from != ContactMode::kAir || e.to == ContactMode::kAir) continue;
+        const int surface = scenario.terrain.SurfaceAt(e.x);
+        if (surface != kGround && e.y > 0.5 * obstacles[surface].height) {
+          std::snprintf(text, sizeof text, "foot %d landed on obstacle %d at t = %.3f s", e.leg + 1,
+                        surface + 1, e.t);
+          fail.push_back(text);
+          break;
+        }
+      }
+    }
+    if (c.min_steps_after_obstacles > 0) {
+      const double beyond = obstacles.back().x_end();
+      int after = 0;
+      for (const StepRow& s : run->steps) after += s.step.x > beyond ? 1 : 0;
+      if (after < c.min_steps_after_obstacles) {
+        std::snprintf(text, sizeof text, "%d steps beyond the last obstacle (at least %d required)",
+                      after, c.min_steps_after_obstacles);
+        fail.push_back(text);
+      }
+    }
+  }
+  run->passed = fail.empty();
+}
+
+}  // namespace rabbit

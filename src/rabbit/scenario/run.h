@@ -1,0 +1,95 @@
+// One run of a scenario with one variant of its controller, and what the report needs of it:
+// per-step records, the tracking log, the metrics of summary.csv and the pass criteria.
+//   variant "fuzzy_cmac"   the chapter's walker (FuzzyCmacWalker);
+//           "nearest_gait" baseline: the same walker with the fuzzy weights rounded to the
+//                          strongest rule (nearest-gait switching);
+//           "pragmatic"    baseline: the pragmatic rules of the start gait (the reference gait
+//                          nearest V_d(0) unless the scenario names one), no velocity control;
+//           "main"         any other controller (passive, pd_hold, pragmatic) as the scenario says.
+#ifndef RABBIT_SCENARIO_RUN_H_
+#define RABBIT_SCENARIO_RUN_H_
+
+#include <map>
+#include <memory>
+#include <mutex>
+#include <string>
+#include <vector>
+
+#include "rabbit/control/fuzzy_cmac_walker.h"
+#include "rabbit/gait/gait_database.h"
+#include "rabbit/learn/fuzzy_cmac.h"
+#include "rabbit/scenario/scenario.h"
+#include "rabbit/sim/simulator.h"
+
+namespace rabbit {
+
+// The gait pattern of walker scenarios and the reference gaits behind it, loaded once and shared
+// read-only by every run that names the same files.
+struct GaitLibrary {
+  GaitPatternFiles files;
+  FuzzyCmac pattern;                  // trunk pitches set (thigh frame)
+  std::vector<std::string> gait_names;  // network order (gait k = O^{k+1})
+  std::vector<GaitRecord> gaits;        // same order
+};
+// Throws InputError for bad or mismatched files.
+std::shared_ptr<const GaitLibrary> LoadGaitLibrary(const GaitPatternFiles& files);
+
+// Loads each distinct set of files once (thread-safe).
+class GaitLibraryCache {
+ public:
+  std::shared_ptr<const GaitLibrary> Get(const GaitPatternFiles& files);
+
+ private:
+  std::mutex mutex_;
+  std::map<std::string, std::shared_ptr<const GaitLibrary>> loaded_;
+};
+
+// The variants a scenario runs: its main controller first, then its baselines.
+std::vector<std::string> ScenarioVariants(const Scenario& scenario);
+// "<scenario>" for the main variant, "<scenario>+<variant>" for a baseline.
+std::string RunName(const Scenario& scenario, const std::string& variant);
+
+struct StepRow {
+  StepRecord step;
+  double v_d = 0.0;
+  double v_m_used = 0.0;  // what the controller used (stride mean, noise); the step's V_M if none
+  double d_obs = 0.0;
+  double q0_d = 0.0;  // rad
+  std::vector<double> weights;  // per reference gait
+  std::string rules;            // firing rules "d_obs set/V_M set:activation;..."
+};
+
+struct RunMetrics {
+  double duration = 0.0, distance = 0.0;
+  int steps = 0;
+  double mean_abs_speed_error = 0.0, final_abs_speed_error = 0.0;  // NaN without measured steps
+  double l_step_mean = 0.0, l_step_min = 0.0, l_step_max = 0.0, l_step_spread = 0.0;
+  double saturation = 0.0;  // s, summed over the joints
+  double energy = 0.0;      // J, positive actuator work
+  double cost_of_transport = 0.0;  // energy / (m g distance), NaN when the robot did not advance
+};
+
+struct RunOutput {
+  std::string scenario, variant, run, controller;
+  SimResult sim;
+  std::vector<StepRow> steps;
+  std::vector<WalkerTrack> tracking;
+  RunMetrics metrics;
+  bool passed = true;
+  std::vector<std::string> failures;  // one message per failed criterion
+  double wall = 0.0;                  // s (not deterministic: excluded from comparisons)
+};
+
+// Runs one variant; never throws for physical failures (they are outcomes). `library` is needed
+// for walker scenarios and baselines (else may be null).
+RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
+                      const GaitLibrary* library);
+
+// Metrics and criteria of a finished run (deterministic functions of the run's records).
+RunMetrics ComputeMetrics(const Scenario& scenario, const Model& model, const SimResult& sim,
+                          const std::vector<StepRow>& steps);
+void EvaluateCriteria(const Scenario& scenario, RunOutput* run);
+
+}  // namespace rabbit
+
+#endif  // RABBIT_SCENARIO_RUN_H_

@@ -1,0 +1,199 @@
+#include "rabbit/scenario/suite.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <memory>
+#include <set>
+#include <sstream>
+
+#include "rabbit/io/error.h"
+#include "rabbit/io/toml_reader.h"
+#include "rabbit/learn/cmac.h"
+
+namespace rabbit {
+namespace {
+
+constexpr long kMaxFamilyCount = 10000;
+
+// Splits "a.b.1.c" into its parts.
+std::vector<std::string> SplitPath(const std::string& path) {
+  std::vector<std::string> parts;
+  std::stringstream in(path);
+  std::string part;
+  while (std::getline(in, part, '.')) parts.push_back(part);
+  return parts;
+}
+
+bool IsIndex(const std::string& part, size_t* index) {
+  if (part.empty() || part.size() > 6 || part.find_first_not_of("0123456789") != std::string::npos) {
+    return false;
+  }
+  *index = std::stoul(part);
+  return true;
+}
+
+// Sets `value` at `path` in `overrides` (a table layered above `layers`), copying from the layers
+// the arrays the path goes through (arrays do not merge, so the whole array is overridden).
+// Returns an error message, empty on success.
+std::string SetOverride(const std::vector<const toml::table*>& layers, const std::string& path,
+                        double value, toml::table* overrides) {
+  const std::vector<std::string> parts = SplitPath(path);
+  if (parts.empty()) return "empty key path";
+  // Walk the layered tables down to the first array (or the leaf).
+  std::vector<const toml::table*> here = layers;
+  toml::table* out = overrides;
+  for (size_t i = 0; i < parts.size(); ++i) {
+    const std::string& key = parts[i];
+    const toml::node* found = nullptr;
+    for (const toml::table* t : here) {
+      if ((found = t->get(key)) != nullptr) break;
+    }
+    if (found == nullptr && out->get(key) == nullptr) {
+      return "names no value of the template (no '" + key + "')";
+    }
+    if (i + 1 == parts.size()) {
+      if (found != nullptr && !found->is_number()) return "is not a number in the template";
+      out->insert_or_assign(key, value);
+      return "";
+    }
+    if (found != nullptr && found->is_array()) {
+      // Copy the array once into the overrides, then descend into the copy.
+      if (out->get(key) == nullptr) out->insert_or_assign(key, *found->as_array());
+      toml::node* node = out->get(key);
+      toml::array* array = node->as_array();
+      size_t index = 0;
+      if (array == nullptr || i + 1 >= parts.size() || !IsIndex(parts[i + 1], &index) ||
+          index < 1 || index > array->size()) {
+        return "array '" + key + "' needs a 1-based index within its " +
+               std::to_string(array == nullptr ? 0 : array->size()) + " elements";
+      }
+      toml::node* element = array->get(index - 1);
+      ++i;
+      if (i + 1 == parts.size()) {
+        if (!element->is_number()) return "is not a number in the template";
+        array->replace(array->cbegin() + static_cast<std::ptrdiff_t>(index - 1), value);
+        return "";
+      }
+      toml::table* sub = element->as_table();
+      if (sub == nullptr) return "element " + parts[i] + " of '" + key + "' is not a table";
+      // Below the copied array, everything is in the copy.
+      here.clear();
+      out = sub;
+      continue;
+    }
+    if (found != nullptr && !found->is_table()) return "'" + key + "' is not a table";
+    std::vector<const toml::table*> next;
+    for (const toml::table* t : here) {
+      if (const toml::node* n = t->get(key); n != nullptr && n->is_table()) {
+        next.push_back(n->as_table());
+      }
+    }
+    here = std::move(next);
+    if (out->get(key) == nullptr) out->insert_or_assign(key, toml::table{});
+    out = out->get(key)->as_table();
+  }
+  return "";
+}
+
+}  // namespace
+
+double FamilyDraw(std::uint64_t family_seed, int member, int key_index, double low, double high) {
+  const std::uint64_t h =
+      CmacHashStep(CmacHashStep(CmacMix64(family_seed), static_cast<std::uint64_t>(member)),
+                   static_cast<std::uint64_t>(key_index));
+  const double u = static_cast<double>(h >> 11) * 0x1.0p-53;  // [0, 1)
+  return low + u * (high - low);
+}
+
+bool IsSuiteFile(const std::string& path) {
+  const TomlReader root = TomlReader::ParseFile(path);
+  return root.Has("suite") || root.Has("scenario") || root.Has("family");
+}
+
+Suite LoadSuite(const std::string& path) {
+  TomlReader root = TomlReader::ParseFile(path);
+  Suite suite;
+  suite.file = path;
+  if (!root.Has("suite") && !root.Has("scenario") && !root.Has("family")) {
+    suite.scenarios.push_back(ReadScenario(root, std::filesystem::path(path).stem().string()));
+    suite.name = suite.scenarios.back().name;
+    suite.description = suite.scenarios.back().description;
+    return suite;
+  }
+  TomlReader header = root.Table("suite");
+  suite.name = header.String("name", std::filesystem::path(path).stem().string());
+  suite.description = header.String("description", "");
+  header.Finish();
+  if (!IsSafeName(suite.name)) {
+    header.Fail("name", "use letters, digits, '.', '_' and '-' only (it names the report folder)");
+  }
+  const TomlReader defaults = root.Table("defaults");
+  const std::vector<const toml::table*>& default_layers = defaults.layers();
+
+  for (TomlReader& s : root.TableArray("scenario")) {
+    std::vector<const toml::table*> layers = s.layers();
+    layers.insert(layers.end(), default_layers.begin(), default_layers.end());
+    suite.scenarios.push_back(ReadScenario(
+        TomlReader::FromLayers(s.owners(), layers, path, s.prefix(), s.line()), ""));
+  }
+  for (TomlReader& f : root.TableArray("family")) {
+    const std::string name = f.String("name", "");
+    if (!IsSafeName(name)) f.Fail("name", "a family needs a name of letters, digits, '.', '_', '-'");
+    const long count = f.Integer("count", 0, 1, kMaxFamilyCount);
+    if (!f.Has("count")) f.Fail("", "missing required key 'count'");
+    const auto seed = static_cast<std::uint64_t>(
+        f.Integer("seed", 1, 0, std::numeric_limits<long>::max()));
+    TomlReader templ = f.Table("scenario");
+    TomlReader vary = f.Table("vary");
+    f.Finish();
+    // The varied keys, in file order.
+    std::vector<std::pair<std::string, std::pair<double, double>>> ranges;
+    for (const toml::table* layer : vary.layers()) {
+      for (const auto& [key, node] : *layer) {
+        const std::string k(key.str());
+        const std::vector<double> range = vary.Doubles(k, {}, 2);
+        if (!(range[0] <= range[1])) vary.Fail(k, "expected [low, high] with low <= high");
+        ranges.push_back({k, {range[0], range[1]}});
+      }
+    }
+    vary.Finish();
+    std::vector<const toml::table*> base = templ.layers();
+    base.insert(base.end(), default_layers.begin(), default_layers.end());
+    const bool template_seeds = templ.Has("seed");
+    for (int i = 0; i < count; ++i) {
+      auto overrides = std::make_shared<toml::table>();
+      char member[16];
+      std::snprintf(member, sizeof member, "-%03d", i);
+      overrides->insert_or_assign("name", name + member);
+      if (!template_seeds) {
+        overrides->insert_or_assign(
+            "seed", static_cast<int64_t>(CmacHashStep(CmacMix64(seed), static_cast<std::uint64_t>(i)) >> 2));
+      }
+      for (size_t k = 0; k < ranges.size(); ++k) {
+        const auto& [key, range] = ranges[k];
+        const double value = FamilyDraw(seed, i, static_cast<int>(k), range.first, range.second);
+        const std::string error = SetOverride(base, key, value, overrides.get());
+        if (!error.empty()) vary.Fail(key, "'" + key + "' " + error);
+      }
+      std::vector<std::shared_ptr<const toml::table>> owners = templ.owners();
+      owners.push_back(overrides);
+      std::vector<const toml::table*> layers = {overrides.get()};
+      layers.insert(layers.end(), base.begin(), base.end());
+      suite.scenarios.push_back(ReadScenario(
+          TomlReader::FromLayers(owners, layers, path, f.prefix() + ".scenario (" + name + member + ")",
+                                 templ.line()),
+          ""));
+    }
+  }
+  root.Finish();
+  if (suite.scenarios.empty()) root.Fail("", "the suite has no [[scenario]] and no [[family]]");
+  std::set<std::string> names;
+  for (const Scenario& s : suite.scenarios) {
+    if (!names.insert(s.name).second) {
+      throw InputError(path, 0, s.name, "two scenarios named \"" + s.name + "\"");
+    }
+  }
+  return suite;
+}
+
+}  // namespace rabbit

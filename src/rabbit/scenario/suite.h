@@ -1,0 +1,46 @@
+// Scenario suites (DESIGN.md section 5): one TOML file holding many scenarios.
+//
+//   [suite]                  name (default: the file's stem), description
+//   [defaults]               any scenario keys, under every scenario and family template
+//   [[scenario]]             a scenario, exactly as in a scenario file (its keys over [defaults])
+//   [[family]]               a randomised family, expanded deterministically into `count` scenarios
+//     name, count, seed
+//     [family.scenario]      the template (over [defaults])
+//     [family.vary]          "dotted.key.path" = [low, high]: drawn uniformly per member; array
+//                            elements by 1-based index, e.g. "terrain.obstacles.1.x_start"
+//   Member i (0-based) is named <family name>-<i, 3 digits>, gets seed = a hash of (family seed, i)
+//   unless the template sets one, and draws its values from a generator seeded by (seed, i, key):
+//   the same members whatever the machine, the thread count or the other families.
+//
+// Relative paths in a suite resolve against the suite file's directory.
+#ifndef RABBIT_SCENARIO_SUITE_H_
+#define RABBIT_SCENARIO_SUITE_H_
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "rabbit/scenario/scenario.h"
+
+namespace rabbit {
+
+struct Suite {
+  std::string file, name, description;
+  std::vector<Scenario> scenarios;  // file order, families expanded in place
+};
+
+// Whether a TOML file is a suite (has [suite], [[scenario]] or [[family]]) rather than a single
+// scenario. Throws InputError for a missing file or a syntax error.
+bool IsSuiteFile(const std::string& path);
+
+// Reads, expands and validates a suite; scenario names must be unique. A single scenario file is
+// read as a suite of one, named after the scenario. Throws InputError naming
+// the file, line and key (for a family member: the family's keys, and the member's name).
+Suite LoadSuite(const std::string& path);
+
+// The value a family member draws for one varied key, in [low, high).
+double FamilyDraw(std::uint64_t family_seed, int member, int key_index, double low, double high);
+
+}  // namespace rabbit
+
+#endif  // RABBIT_SCENARIO_SUITE_H_

@@ -1,0 +1,110 @@
+// The batch-run report rendered by a real browser: headless Chromium loads the generated
+// index.html; every replay has drawn its first frame, no script error was raised, the figures
+// are in the DOM; and a screenshot of the page is taken (a non-trivial PNG).
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include "rabbit/report/suite_report.h"
+#include "report_fixture.h"
+
+namespace rabbit {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::Count;
+using testing::ReadText;
+
+// The first of names found executable on PATH, as a full path; empty when none.
+std::string FindOnPath(const std::vector<std::string>& names) {
+  const char* path = std::getenv("PATH");
+  const std::string dirs = path == nullptr ? "" : path;
+  for (const std::string& name : names) {
+    size_t start = 0;
+    while (start <= dirs.size()) {
+      const size_t end = std::min(dirs.find(':', start), dirs.size());
+      const fs::path candidate = fs::path(dirs.substr(start, end - start)) / name;
+      if (!dirs.substr(start, end - start).empty() && ::access(candidate.c_str(), X_OK) == 0) {
+        return candidate.string();
+      }
+      start = end + 1;
+    }
+  }
+  return "";
+}
+
+// text as one shell word.
+std::string ShellQuote(const std::string& text) {
+  std::string out = "'";
+  for (char c : text) out += c == '\'' ? std::string("'\\''") : std::string(1, c);
+  return out + "'";
+}
+
+// Runs a command line; its standard output (stderr discarded) and exit status.
+int RunCommand(const std::string& command, std::string* output) {
+  FILE* pipe = popen((command + " 2>/dev/null").c_str(), "r");
+  if (pipe == nullptr) return -1;
+  char buffer[65536];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) output->append(buffer, n);
+  return pclose(pipe);
+}
+
+TEST(ReportRenderTest, ChromiumDrawsEveryReplayWithoutErrors) {
+  const std::string chromium = FindOnPath({"chromium", "chromium-browser"});
+  if (chromium.empty()) {
+    GTEST_SKIP() << "neither chromium nor chromium-browser is on PATH: the page is not rendered";
+  }
+  const fs::path dir =
+      fs::temp_directory_path() / ("rabbit_report_render_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const testing::ReportFixture fixture = testing::WriteReportFixture(dir.string(), 8.0);
+  std::vector<std::string> warnings;
+  const std::string page = WriteSuiteReport(fixture.dir, SuiteReportOptions{}, &warnings);
+  const int figures = warnings.empty() ? fixture.expected_figures : 0;  // no gnuplot: none
+
+  // Each Chromium gets its own profile, so that concurrent tests (and browsers) do not collide.
+  const std::string browser = "timeout 60 " + ShellQuote(chromium) +
+                              " --headless --no-sandbox --disable-gpu --hide-scrollbars "
+                              "--user-data-dir=" +
+                              ShellQuote((dir / "profile").string()) + " ";
+  const std::string url = ShellQuote("file://" + page);
+  std::string dom;
+  ASSERT_EQ(RunCommand(browser + "--dump-dom " + url, &dom), 0) << "chromium failed";
+  const size_t html = dom.find("<html");
+  ASSERT_NE(html, std::string::npos) << dom.substr(0, 500);
+  const std::string root = dom.substr(html, dom.find('>', html) - html);
+  EXPECT_NE(root.find("data-js-errors=\"0\""), std::string::npos) << root;
+  EXPECT_NE(root.find("data-replay=\"ready\""), std::string::npos) << root;
+  EXPECT_NE(root.find("data-replay-count=\"" + std::to_string(fixture.runs.size()) + "\""),
+            std::string::npos)
+      << root;
+  EXPECT_EQ(Count(dom, "<canvas"), static_cast<int>(fixture.runs.size()));
+  EXPECT_EQ(Count(dom, "<img class=\"fig\""), figures);
+  // The play buttons were labelled by the script (it ran to the end for every replay).
+  EXPECT_EQ(Count(dom, "\u25b6 Play</button>"), static_cast<int>(fixture.runs.size()));
+
+  const fs::path png = dir / "page.png";
+  std::string ignored;
+  ASSERT_EQ(RunCommand(browser + "--window-size=1400,3000 --screenshot=" + ShellQuote(png.string()) +
+                    " " + url,
+                &ignored),
+            0);
+  ASSERT_TRUE(fs::exists(png));
+  const std::string image = ReadText(png.string());
+  EXPECT_EQ(image.compare(0, 8, "\x89PNG\r\n\x1a\n"), 0);
+  const size_t kMinBytes = 50000;  // a blank 1400 x 3000 page compresses to a few kB
+  EXPECT_GT(image.size(), kMinBytes);
+  if (std::getenv("RABBIT_KEEP_REPORT") == nullptr) {
+    fs::remove_all(dir);
+  } else {
+    std::printf("kept %s\n", dir.c_str());
+  }
+}
+
+}  // namespace
+}  // namespace rabbit

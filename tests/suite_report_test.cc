@@ -1,0 +1,259 @@
+// The batch-run report from the CSV files of a run: the page has the summary rows, one replay per
+// run and the gnuplot figures; without gnuplot a warning and no figures, never a failure;
+// malformed input names the file, line and column; the stick-figure geometry at hand-computed
+// points and against the model's own kinematics.
+#include "rabbit/report/suite_report.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <random>
+#include <regex>
+
+#include "rabbit/io/error.h"
+#include "rabbit/model/model.h"
+#include "report_fixture.h"
+
+namespace rabbit {
+namespace {
+
+namespace fs = std::filesystem;
+using testing::Count;
+using testing::ReadText;
+using testing::WriteText;
+
+bool OnPath(const std::string& name) {
+  const char* path = std::getenv("PATH");
+  std::string dirs = path == nullptr ? "" : path;
+  size_t start = 0;
+  while (start <= dirs.size()) {
+    const size_t end = std::min(dirs.find(':', start), dirs.size());
+    const fs::path candidate = fs::path(dirs.substr(start, end - start)) / name;
+    if (::access(candidate.c_str(), X_OK) == 0) return true;
+    start = end + 1;
+  }
+  return false;
+}
+
+class SuiteReportTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    const fs::path dir = fs::temp_directory_path() /
+                         ("rabbit_suite_report_test_" + std::to_string(::getpid()));
+    fs::remove_all(dir);
+    fixture_ = new testing::ReportFixture(testing::WriteReportFixture(dir.string()));
+  }
+  static void TearDownTestSuite() {
+    fs::remove_all(fixture_->dir);
+    delete fixture_;
+    fixture_ = nullptr;
+  }
+  // A copy of the fixture to break, in its own directory.
+  static std::string CopyFixture(const std::string& name) {
+    const fs::path copy = fs::path(fixture_->dir).parent_path() /
+                          (fs::path(fixture_->dir).filename().string() + "_" + name);
+    fs::remove_all(copy);
+    fs::copy(fixture_->dir, copy, fs::copy_options::recursive);
+    fs::remove(copy / "index.html");  // another test's page
+    return copy.string();
+  }
+  static testing::ReportFixture* fixture_;
+};
+testing::ReportFixture* SuiteReportTest::fixture_ = nullptr;
+
+TEST_F(SuiteReportTest, PageHasSummaryReplaysAndFigures) {
+  if (!OnPath("gnuplot")) GTEST_SKIP() << "gnuplot is not on PATH (Debian: gnuplot-nox)";
+  std::vector<std::string> warnings;
+  const std::string path = WriteSuiteReport(fixture_->dir, SuiteReportOptions{}, &warnings);
+  EXPECT_EQ(path, (fs::path(fixture_->dir) / "index.html").string());
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  const std::string page = ReadText(path);
+  ASSERT_FALSE(page.empty());
+  // Summary: one row per run, pass/fail classes, the quoted criteria split into items.
+  EXPECT_EQ(Count(page, "<tr class=\"pass"), 2);
+  EXPECT_EQ(Count(page, "<tr class=\"fail"), 1);
+  EXPECT_NE(page.find("<code>walk+pragmatic</code>"), std::string::npos);
+  EXPECT_NE(page.find("<li>mean speed error 0.09 m/s &gt; 0.03 m/s</li>"), std::string::npos);
+  EXPECT_NE(page.find("<li>L_step spread, last 10 steps, 2 mm</li>"), std::string::npos);
+  EXPECT_NE(page.find("Suite <em>suite_fixture</em>"), std::string::npos);
+  // Baselines grouped with their scenario: the scenario cell spans both of walk's rows.
+  EXPECT_NE(page.find("rowspan=\"2\"><a href=\"#scenario-0\">walk</a>"), std::string::npos);
+  // One replay per run, and its frames at replay_fps over the 12 s walks (301 frames).
+  EXPECT_EQ(Count(page, "<canvas"), static_cast<int>(fixture_->runs.size()));
+  EXPECT_EQ(Count(page, "class=\"replay-data\""), static_cast<int>(fixture_->runs.size()));
+  EXPECT_EQ(Count(page, "\"frames\":301,"), 3);
+  // The figures, inlined as images, and nothing fetched from elsewhere.
+  EXPECT_EQ(Count(page, "<img class=\"fig\""), fixture_->expected_figures);
+  EXPECT_EQ(Count(page, "src=\"data:image/svg+xml;base64,"), fixture_->expected_figures);
+  EXPECT_EQ(page.find("http:"), std::string::npos);
+  EXPECT_EQ(page.find("https:"), std::string::npos);
+  // Compact: under 1 MB per run, coordinates rounded to 4 decimals.
+  EXPECT_LT(page.size(), fixture_->runs.size() * 1000000);
+  const size_t data = page.find("class=\"replay-data\">");
+  const std::string json = page.substr(data, page.find("</script>", data) - data);
+  EXPECT_FALSE(std::regex_search(json, std::regex("[0-9]\\.[0-9]{5}")));
+  EXPECT_TRUE(std::regex_search(json, std::regex("[0-9]\\.[0-9]{4}")));
+  // The error counter is installed before any other script.
+  EXPECT_LT(page.find("addEventListener('error'"), page.find("<style>"));
+}
+
+TEST_F(SuiteReportTest, WithoutGnuplotWarnsAndKeepsTablesAndReplays) {
+  const std::string dir = CopyFixture("nognuplot");
+  SuiteReportOptions options;
+  options.gnuplot = "/nonexistent/gnuplot";
+  std::vector<std::string> warnings;
+  const std::string path = WriteSuiteReport(dir, options, &warnings);
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("/nonexistent/gnuplot"), std::string::npos);
+  const std::string page = ReadText(path);
+  EXPECT_NE(page.find("<table class=\"summary\">"), std::string::npos);
+  EXPECT_EQ(Count(page, "<tr class=\"pass") + Count(page, "<tr class=\"fail"), 3);
+  EXPECT_EQ(Count(page, "<canvas"), 3);
+  EXPECT_EQ(Count(page, "<img"), 0);
+  EXPECT_NE(page.find("class=\"warning\""), std::string::npos);
+  fs::remove_all(dir);
+}
+
+TEST_F(SuiteReportTest, FailingGnuplotIsAWarningToo) {
+  const std::string dir = CopyFixture("falsegnuplot");
+  SuiteReportOptions options;
+  options.gnuplot = "false";  // runs, exits 1
+  std::vector<std::string> warnings;
+  const std::string page = ReadText(WriteSuiteReport(dir, options, &warnings));
+  ASSERT_EQ(warnings.size(), 1u);
+  EXPECT_NE(warnings[0].find("status 1"), std::string::npos);
+  EXPECT_EQ(Count(page, "<img"), 0);
+  EXPECT_EQ(Count(page, "<canvas"), 3);
+  fs::remove_all(dir);
+}
+
+TEST_F(SuiteReportTest, MissingSummaryColumnNamesTheFile) {
+  const std::string dir = CopyFixture("nocolumn");
+  const std::string summary = (fs::path(dir) / "summary.csv").string();
+  std::string text = ReadText(summary);
+  text.replace(text.find(",steps,"), 7, ",stepz,");
+  WriteText(summary, text);
+  try {
+    WriteSuiteReport(dir, SuiteReportOptions{}, nullptr);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), summary);
+    EXPECT_EQ(e.key(), "steps");
+    EXPECT_NE(std::string(e.what()).find("summary.csv"), std::string::npos);
+  }
+  EXPECT_FALSE(fs::exists(fs::path(dir) / "index.html"));
+  fs::remove_all(dir);
+}
+
+TEST_F(SuiteReportTest, MalformedRunFilesNameFileLineAndColumn) {
+  const std::string dir = CopyFixture("badrun");
+  const std::string steps = (fs::path(dir) / "obstacle" / "steps.csv").string();
+  std::string text = ReadText(steps);
+  const size_t second_row = text.find('\n', text.find('\n') + 1) + 1;
+  text.replace(second_row, text.find(',', second_row) - second_row, "one");
+  WriteText(steps, text);
+  try {
+    WriteSuiteReport(dir, SuiteReportOptions{}, nullptr);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), steps);
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(e.key(), "step");
+  }
+  // A missing file, and a run name that leaves the directory.
+  fs::remove(steps);
+  EXPECT_THROW(WriteSuiteReport(dir, SuiteReportOptions{}, nullptr), InputError);
+  const std::string summary = (fs::path(dir) / "summary.csv").string();
+  std::string s = ReadText(summary);
+  s.replace(s.find(",obstacle,", s.find("fuzzy_cmac,obstacle")), 10, ",../obstacle,");
+  WriteText(summary, s);
+  try {
+    WriteSuiteReport(dir, SuiteReportOptions{}, nullptr);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "run");
+    EXPECT_EQ(e.line(), 4);
+  }
+  fs::remove_all(dir);
+}
+
+TEST(SuiteReportOptionsTest, Validation) {
+  std::string error;
+  EXPECT_TRUE(SuiteReportOptions{}.IsValid(&error)) << error;
+  SuiteReportOptions o;
+  o.replay_fps = 0;
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("replay_fps"), std::string::npos);
+  o = SuiteReportOptions{};
+  o.stick_every = 0.0;
+  EXPECT_FALSE(o.IsValid(&error));
+  o = SuiteReportOptions{};
+  o.stick_window = 1e4;  // 100000 figures in one diagram
+  EXPECT_FALSE(o.IsValid(&error));
+  o = SuiteReportOptions{};
+  o.gnuplot = "";
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_THROW(WriteSuiteReport("/nonexistent", o, nullptr), std::invalid_argument);
+}
+
+TEST(StickPointsTest, HandComputedPoses) {
+  const double kTolerance = 1e-12;
+  const LinkLengths lengths;  // thigh 0.40, shin 0.47, trunk 0.625
+  // Upright trunk; thigh 1 horizontal forward with the shin hanging straight down from the
+  // knee; leg 2 straight down.
+  const StickFigure a = StickPoints({1.0, 0.8, 0.0, M_PI / 2, -M_PI / 2, 0.0, 0.0}, lengths);
+  EXPECT_NEAR(a.hip.x, 1.0, kTolerance);
+  EXPECT_NEAR(a.hip.y, 0.8, kTolerance);
+  EXPECT_NEAR(a.trunk_top.x, 1.0, kTolerance);
+  EXPECT_NEAR(a.trunk_top.y, 1.425, kTolerance);
+  EXPECT_NEAR(a.knee[0].x, 1.4, kTolerance);
+  EXPECT_NEAR(a.knee[0].y, 0.8, kTolerance);
+  EXPECT_NEAR(a.foot[0].x, 1.4, kTolerance);
+  EXPECT_NEAR(a.foot[0].y, 0.33, kTolerance);
+  EXPECT_NEAR(a.knee[1].x, 1.0, kTolerance);
+  EXPECT_NEAR(a.knee[1].y, 0.4, kTolerance);
+  EXPECT_NEAR(a.foot[1].x, 1.0, kTolerance);
+  EXPECT_NEAR(a.foot[1].y, -0.07, kTolerance);
+  // Trunk pitched 90 deg forward: its top ahead of the hip; the hips' relative angles equal to
+  // the pitch keep the thighs vertical; knee 2 bent back by 90 deg puts shin 2 horizontal, foot
+  // behind.
+  const StickFigure b = StickPoints({0.0, 0.87, M_PI / 2, M_PI / 2, 0.0, M_PI / 2, -M_PI / 2},
+                                    lengths);
+  EXPECT_NEAR(b.trunk_top.x, 0.625, kTolerance);
+  EXPECT_NEAR(b.trunk_top.y, 0.87, kTolerance);
+  EXPECT_NEAR(b.foot[0].x, 0.0, kTolerance);
+  EXPECT_NEAR(b.foot[0].y, 0.0, kTolerance);
+  EXPECT_NEAR(b.knee[1].y, 0.47, kTolerance);
+  EXPECT_NEAR(b.foot[1].x, -0.47, kTolerance);
+  EXPECT_NEAR(b.foot[1].y, 0.47, kTolerance);
+}
+
+TEST(StickPointsTest, AgreesWithTheModelsKinematics) {
+  const double kTolerance = 1e-12;
+  const Model model{ModelParams{}};
+  const LinkLengths lengths{model.params().thigh_length, model.params().shin_length,
+                            model.params().trunk_length};
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> angle(-1.5, 1.5);
+  for (int k = 0; k < 100; ++k) {
+    Vec7 q;
+    q << angle(rng), 0.5 + angle(rng) * 0.1, angle(rng), angle(rng), angle(rng), angle(rng),
+        angle(rng);
+    const Pose pose = ComputePose(model, q);
+    const StickFigure f = StickPoints({q[0], q[1], q[2], q[3], q[4], q[5], q[6]}, lengths);
+    EXPECT_NEAR(f.trunk_top.x, pose.trunk_top.x(), kTolerance);
+    EXPECT_NEAR(f.trunk_top.y, pose.trunk_top.y(), kTolerance);
+    for (int leg = 0; leg < 2; ++leg) {
+      EXPECT_NEAR(f.knee[leg].x, pose.knee[leg].x(), kTolerance);
+      EXPECT_NEAR(f.knee[leg].y, pose.knee[leg].y(), kTolerance);
+      EXPECT_NEAR(f.foot[leg].x, pose.foot[leg].x(), kTolerance);
+      EXPECT_NEAR(f.foot[leg].y, pose.foot[leg].y(), kTolerance);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rabbit
