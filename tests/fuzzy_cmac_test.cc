@@ -76,5 +76,43 @@ TEST(FuzzyCmacTest, MismatchedPiecesAreRefused) {
   EXPECT_THROW(FuzzyCmac(fis, mixed), std::invalid_argument);
 }
 
+TEST(FuzzyCmacTest, ThighFrameShiftsEachGaitByItsTrunkPitch) {
+  // QueryThigh(th) = sum_k w_k [O^k(th + p_k) - (p_k, 0, 0, 0)], computed here gait by gait.
+  const TsFis fis = LoadFll(kRoot + "/gaits/gait_pattern.fll");
+  const std::vector<GaitCmacs> networks = LoadGaitNetworks(kRoot + "/gaits/networks", nullptr);
+  FuzzyCmac pattern(fis, networks);
+  EXPECT_THROW(pattern.QueryThigh(0.1), std::logic_error);
+  EXPECT_THROW(pattern.SetTrunkPitches({0.1, 0.2}), std::invalid_argument);
+  const std::vector<double> pitches = {0.0, -0.087, 0.156, 0.124, 0.262};
+  pattern.SetTrunkPitches(pitches);
+  const double kTolerance = 1e-12;
+  for (double v : {0.42, 0.55, 0.73}) {
+    for (double d : {1.0, 0.33, 0.1}) {
+      ASSERT_TRUE(pattern.SetContext(v, d));
+      for (double th : {-0.3, -0.05, 0.2}) {
+        Eigen::Vector4d expected = Eigen::Vector4d::Zero();
+        for (size_t k = 0; k < networks.size(); ++k) {
+          const double w = pattern.gait_weights()[k];
+          for (int o = 0; o < kGaitOutputs; ++o) {
+            expected[o] += w * (networks[k][o].Query(th + pitches[k]) - (o == 0 ? pitches[k] : 0.0));
+          }
+        }
+        EXPECT_LE((pattern.QueryThigh(th) - expected).cwiseAbs().maxCoeff(), kTolerance);
+      }
+    }
+  }
+}
+
+TEST(FuzzyCmacTest, StrongestRuleOnlyKeepsOneGait) {
+  FuzzyCmac pattern = LoadGaitPattern(kRoot + "/gaits/gait_pattern.fll", kRoot + "/gaits/networks");
+  // Between the 0.5 and 0.6 m/s gaits, nearer the 0.6 one; no obstacle: Small and Medium fire.
+  ASSERT_TRUE(pattern.SetContext(0.56, 1.0));
+  EXPECT_GT(pattern.gait_weights()[1], 0.0);
+  EXPECT_GT(pattern.gait_weights()[2], pattern.gait_weights()[1]);
+  pattern.KeepStrongestRuleOnly();
+  const std::vector<double> expected = {0, 0, 1, 0, 0};
+  EXPECT_EQ(pattern.gait_weights(), expected);
+}
+
 }  // namespace
 }  // namespace rabbit

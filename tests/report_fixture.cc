@@ -98,10 +98,13 @@ void WriteRun(const RunSpec& spec, double duration, const fs::path& dir, std::st
   for (const StepRecord& s : walk.steps) {
     const double v_m = s.t_step > 0.0 ? s.v_m : NAN;
     // The stance foot's distance to the obstacle's near edge (infinite once past it).
-    const double foot_x = walk.sim.samples[std::min(
-        walk.sim.samples.size() - 1,
-        static_cast<size_t>(std::lround(s.t_touchdown / 0.001)))].foot_pos[s.leg].x();
-    const double d_obs = !spec.obstacle                        ? INFINITY
+    const double foot_x =
+        walk.sim
+            .samples[std::min(walk.sim.samples.size() - 1,
+                              static_cast<size_t>(std::lround(s.t_touchdown / 0.001)))]
+            .foot_pos[s.leg]
+            .x();
+    const double d_obs = !spec.obstacle         ? INFINITY
                          : foot_x <= kObstacleX ? kObstacleX - foot_x
                                                 : INFINITY;
     std::vector<double> w = Weights(std::isfinite(v_m) ? v_m : v_d);
@@ -133,23 +136,23 @@ void WriteRun(const RunSpec& spec, double duration, const fs::path& dir, std::st
   }
   WriteText((run_dir / "steps.csv").string(), steps);
 
-  std::string tracking = "t_s,stance_leg,e_rad,q_sw1_d_rad,q_sw1_rad,q_sw2_d_rad,q_sw2_rad,q0_d_rad,"
-                         "q0_rad\n";
+  std::string tracking =
+      "t_s,stance_leg,e_rad,q_sw1_d_rad,q_sw1_rad,q_sw2_d_rad,q_sw2_rad,q0_d_rad,"
+      "q0_rad\n";
   for (const SimSample& s : decimated.samples) {
     const int stance = s.foot_pos[0].y() <= s.foot_pos[1].y() ? 0 : 1;  // the lower foot
     const int swing = 1 - stance;
     const double hip = s.q[3 + 2 * swing], knee = s.q[4 + 2 * swing];
     const double hip_d = fuzzy ? hip + 0.03 * std::sin(7.0 * s.t) : NAN;
     const double knee_d = fuzzy ? knee - 0.04 * std::cos(5.0 * s.t) : NAN;
-    tracking += Num(s.t) + "," + std::to_string(stance + 1) + "," + Num(s.q[3 + 2 * stance]) +
-                "," + Num(hip_d) + "," + Num(hip) + "," + Num(knee_d) + "," + Num(knee) + "," +
+    tracking += Num(s.t) + "," + std::to_string(stance + 1) + "," + Num(s.q[3 + 2 * stance]) + "," +
+                Num(hip_d) + "," + Num(hip) + "," + Num(knee_d) + "," + Num(knee) + "," +
                 Num(gait.spec.rules.q0_d) + "," + Num(s.q[2]) + "\n";
   }
   WriteText((run_dir / "tracking.csv").string(), tracking);
 
   const double n = static_cast<double>(walk.steps.size());
-  const double distance =
-      walk.sim.samples.back().q[0] - walk.sim.samples.front().q[0];
+  const double distance = walk.sim.samples.back().q[0] - walk.sim.samples.front().q[0];
   *summary += "suite_fixture," + spec.scenario + "," + spec.variant + "," + spec.run + "," +
               (fuzzy ? "fuzzy_cmac" : "pragmatic") + ",completed,," + (spec.passed ? "1" : "0") +
               "," + spec.failed + "," + Num(walk.sim.t_end) + "," + Num(distance) + "," +

@@ -88,11 +88,39 @@ TEST(ReportRenderTest, ChromiumDrawsEveryReplayWithoutErrors) {
   // The play buttons were labelled by the script (it ran to the end for every replay).
   EXPECT_EQ(Count(dom, "\u25b6 Play</button>"), static_cast<int>(fixture.runs.size()));
 
+  // Playback: a copy of the page that presses the first replay's Play button and reads its time
+  // label after 2 s of the browser's virtual time (headless Chromium runs requestAnimationFrame
+  // only on real frames, so the copy drives it by timers).
+  {
+    std::string harness = ReadText(page);
+    harness.replace(harness.find("<script>"), 8,
+                    "<script>window.requestAnimationFrame=function(cb){"
+                    "return setTimeout(function(){cb(performance.now());},16);};");
+    harness.replace(harness.rfind("</body>"), 7,
+                    "<script>setTimeout(function(){"
+                    "document.querySelector('.replay button.play').click();"
+                    "setTimeout(function(){document.documentElement.dataset.played="
+                    "document.querySelector('.replay .time').textContent;},2000);},50);"
+                    "</script></body>");
+    const fs::path play = dir / "play.html";
+    testing::WriteText(play.string(), harness);
+    std::string played;
+    ASSERT_EQ(RunCommand(browser + "--virtual-time-budget=5000 --dump-dom " +
+                             ShellQuote("file://" + play.string()),
+                         &played),
+              0);
+    const size_t at = played.find("data-played=\"t = ");
+    ASSERT_NE(at, std::string::npos) << played.substr(0, 300);
+    const double t = std::atof(played.c_str() + at + 17);  // after `data-played="t = `
+    EXPECT_GT(t, 0.5) << "the replay did not advance: " << played.substr(at, 40);
+    EXPECT_NE(played.find("data-js-errors=\"0\""), std::string::npos);
+  }
+
   const fs::path png = dir / "page.png";
   std::string ignored;
-  ASSERT_EQ(RunCommand(browser + "--window-size=1400,3000 --screenshot=" + ShellQuote(png.string()) +
-                    " " + url,
-                &ignored),
+  ASSERT_EQ(RunCommand(browser + "--window-size=1400,3000 --screenshot=" +
+                           ShellQuote(png.string()) + " " + url,
+                       &ignored),
             0);
   ASSERT_TRUE(fs::exists(png));
   const std::string image = ReadText(png.string());

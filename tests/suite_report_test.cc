@@ -41,8 +41,8 @@ bool OnPath(const std::string& name) {
 class SuiteReportTest : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
-    const fs::path dir = fs::temp_directory_path() /
-                         ("rabbit_suite_report_test_" + std::to_string(::getpid()));
+    const fs::path dir =
+        fs::temp_directory_path() / ("rabbit_suite_report_test_" + std::to_string(::getpid()));
     fs::remove_all(dir);
     fixture_ = new testing::ReportFixture(testing::WriteReportFixture(dir.string()));
   }
@@ -79,8 +79,10 @@ TEST_F(SuiteReportTest, PageHasSummaryReplaysAndFigures) {
   EXPECT_NE(page.find("<li>mean speed error 0.09 m/s &gt; 0.03 m/s</li>"), std::string::npos);
   EXPECT_NE(page.find("<li>L_step spread, last 10 steps, 2 mm</li>"), std::string::npos);
   EXPECT_NE(page.find("Suite <em>suite_fixture</em>"), std::string::npos);
-  // Baselines grouped with their scenario: the scenario cell spans both of walk's rows.
-  EXPECT_NE(page.find("rowspan=\"2\"><a href=\"#scenario-0\">walk</a>"), std::string::npos);
+  // Baselines grouped with their scenario: the scenario cell spans walk's two runs and the
+  // baseline's row of failed criteria.
+  EXPECT_NE(page.find("rowspan=\"3\"><a href=\"#scenario-0\">walk</a>"), std::string::npos);
+  EXPECT_EQ(Count(page, "<tr class=\"criteria-row\">"), 1);
   // One replay per run, and its frames at replay_fps over the 12 s walks (301 frames).
   EXPECT_EQ(Count(page, "<canvas"), static_cast<int>(fixture_->runs.size()));
   EXPECT_EQ(Count(page, "class=\"replay-data\""), static_cast<int>(fixture_->runs.size()));
@@ -180,6 +182,30 @@ TEST_F(SuiteReportTest, MalformedRunFilesNameFileLineAndColumn) {
   fs::remove_all(dir);
 }
 
+TEST_F(SuiteReportTest, DivergedTrajectoryRowsAreLeftOutWithAWarning) {
+  const std::string dir = CopyFixture("diverged");
+  const std::string trajectory = (fs::path(dir) / "walk" / "trajectory.csv").string();
+  std::string text = ReadText(trajectory);
+  // The last row's hip height becomes nan, as a diverged run may write it.
+  const size_t last = text.rfind('\n', text.size() - 2) + 1;
+  const size_t y = text.find(',', text.find(',', last) + 1) + 1;
+  text.replace(y, text.find(',', y) - y, "nan");
+  WriteText(trajectory, text);
+  SuiteReportOptions options;
+  options.gnuplot = "/nonexistent/gnuplot";
+  std::vector<std::string> warnings;
+  const std::string page = ReadText(WriteSuiteReport(dir, options, &warnings));
+  ASSERT_EQ(warnings.size(), 2u);
+  EXPECT_NE(warnings[0].find("walk/trajectory.csv: 1 rows"), std::string::npos) << warnings[0];
+  EXPECT_EQ(Count(page, "\"frames\":301,"), 2);  // walk lost its last 0.01 s (one frame)
+  EXPECT_EQ(Count(page, "\"frames\":300,"), 1);
+  // Not a number at all is still an error.
+  text.replace(y, 3, "abc");
+  WriteText(trajectory, text);
+  EXPECT_THROW(WriteSuiteReport(dir, options, nullptr), InputError);
+  fs::remove_all(dir);
+}
+
 TEST(SuiteReportOptionsTest, Validation) {
   std::string error;
   EXPECT_TRUE(SuiteReportOptions{}.IsValid(&error)) << error;
@@ -220,8 +246,8 @@ TEST(StickPointsTest, HandComputedPoses) {
   // Trunk pitched 90 deg forward: its top ahead of the hip; the hips' relative angles equal to
   // the pitch keep the thighs vertical; knee 2 bent back by 90 deg puts shin 2 horizontal, foot
   // behind.
-  const StickFigure b = StickPoints({0.0, 0.87, M_PI / 2, M_PI / 2, 0.0, M_PI / 2, -M_PI / 2},
-                                    lengths);
+  const StickFigure b =
+      StickPoints({0.0, 0.87, M_PI / 2, M_PI / 2, 0.0, M_PI / 2, -M_PI / 2}, lengths);
   EXPECT_NEAR(b.trunk_top.x, 0.625, kTolerance);
   EXPECT_NEAR(b.trunk_top.y, 0.87, kTolerance);
   EXPECT_NEAR(b.foot[0].x, 0.0, kTolerance);

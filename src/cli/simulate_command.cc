@@ -7,6 +7,7 @@
 
 #include "cli/commands.h"
 #include "rabbit/model/model.h"
+#include "rabbit/scenario/run.h"
 #include "rabbit/scenario/scenario.h"
 #include "rabbit/scenario/trajectory_csv.h"
 #include "rabbit/sim/simulator.h"
@@ -32,12 +33,12 @@ int RunSimulate(const SimulateArgs& args) {
       return 2;
     }
   }
-  const Model model(scenario.model);
-  const SimSetup setup = MakeSimSetup(scenario, &model);
-  std::unique_ptr<Controller> controller = MakeController(scenario);
-
+  // Walker scenarios need their gait pattern (loaded before the clock starts).
+  std::shared_ptr<const GaitLibrary> library;
+  if (scenario.controller == ControllerKind::kFuzzyCmac) library = LoadGaitLibrary(scenario.pattern);
   const auto start = std::chrono::steady_clock::now();
-  const SimResult result = Simulate(setup, scenario.q0, scenario.qd0, controller.get());
+  const RunOutput run = RunScenario(scenario, ScenarioVariants(scenario).front(), library.get());
+  const SimResult& result = run.sim;
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
@@ -58,6 +59,11 @@ int RunSimulate(const SimulateArgs& args) {
     std::printf("saturation hip1 %.3f s, knee1 %.3f s, hip2 %.3f s, knee2 %.3f s\n",
                 result.saturation_time(0, period), result.saturation_time(1, period),
                 result.saturation_time(2, period), result.saturation_time(3, period));
+    if (!run.steps.empty()) {
+      std::printf("walking    %zu steps, %.2f m, mean L_step %.3f m, mean |V_M - V_d| %.3f m/s\n",
+                  run.steps.size(), run.metrics.distance, run.metrics.l_step_mean,
+                  run.metrics.mean_abs_speed_error);
+    }
     std::printf("wrote      %s (%zu rows)\n", out.c_str(), result.samples.size());
   }
   if (!scenario.expected_outcome.empty() &&

@@ -72,6 +72,12 @@ bool WalkerParams::IsValid(std::string* error) const {
       {"trunk_kp", trunk_kp},
       {"trunk_kd", trunk_kd},
       {"d_obs_max", d_obs_max},
+      {"lift_clearance", lift_clearance},
+      {"lift_d_obs", lift_d_obs},
+      {"lift_lead", lift_lead},
+      {"lift_trail", lift_trail},
+      {"lift_ramp", lift_ramp},
+      {"lift_release", lift_release},
       {"v_m_noise", v_m_noise},
       {"d_obs_noise", d_obs_noise}};
   for (const auto& [name, value] : values) {
@@ -94,6 +100,11 @@ bool WalkerParams::IsValid(std::string* error) const {
   }
   if (!(std::isfinite(v_m_initial) && v_m_initial > 0.0 && v_m_initial < 3.0)) {
     *error = "v_m_initial must be in (0, 3) m/s";
+    return false;
+  }
+  if (!(thigh_length > 0.0 && shin_length > 0.0 && std::isfinite(thigh_length) &&
+        std::isfinite(shin_length))) {
+    *error = "thigh_length and shin_length must be > 0";
     return false;
   }
   if (d_obs_max <= 0.0) {
@@ -185,6 +196,14 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     d_obs = std::clamp(d_obs + p_.d_obs_noise * Gaussian(), 0.0, p_.d_obs_max);
   }
   SetContext(v_m_, d_obs);
+  // The foot lift is armed for the step over and for the trailing leg.
+  lift_armed_ = d_obs < p_.lift_d_obs;
+  if (obs.terrain != nullptr) {
+    const double back = obs.foot_pos[1 - step.leg].x();
+    for (const Obstacle& o : obs.terrain->obstacles) {
+      if (back < o.x_end() && front > o.x_start) lift_armed_ = true;
+    }
+  }
   WalkerStep record;
   record.step = step;
   record.v_d = v_d;
@@ -197,15 +216,62 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   steps_.push_back(std::move(record));
 }
 
-double FuzzyCmacWalker::ClearanceActivation(const Terrain& terrain, double foot_x) const {
-  double a = 0.0;
+double FuzzyCmacWalker::LiftHeight(const Terrain& terrain, double foot_x) const {
+  double h = 0.0;
   for (const Obstacle& o : terrain.obstacles) {
-    const double lo = o.x_start - p_.clearance_lead, hi = o.x_end() + p_.clearance_trail;
-    const double outside = foot_x < lo ? lo - foot_x : (foot_x > hi ? foot_x - hi : 0.0);
-    a = std::max(a, p_.clearance_fade > 0.0 ? 1.0 - outside / p_.clearance_fade
-                                            : (outside > 0.0 ? 0.0 : 1.0));
+    const double lo = o.x_start - p_.lift_lead, hi = o.x_end() + p_.lift_trail;
+    double a = 1.0;
+    if (foot_x < lo) a = p_.lift_ramp > 0.0 ? 1.0 - (lo - foot_x) / p_.lift_ramp : 0.0;
+    if (foot_x > hi) a = p_.lift_release > 0.0 ? 1.0 - (foot_x - hi) / p_.lift_release : 0.0;
+    h = std::max(h, std::clamp(a, 0.0, 1.0) * (o.height + p_.lift_clearance));
   }
-  return std::clamp(a, 0.0, 1.0);
+  return h;
+}
+
+void FuzzyCmacWalker::ApplyLift(const Observation& obs, int sw_hip, Eigen::Vector4d* ref) {
+  const Vec7& q = obs.q;
+  const double l1 = p_.thigh_length, l2 = p_.shin_length;
+  Eigen::Vector4d& r = *ref;
+  const double h = LiftHeight(*obs.terrain, obs.foot_pos[1 - stance_].x());
+  Eigen::Vector2d delta = Eigen::Vector2d::Zero();
+  if (h > 0.0) {
+    // The pattern's foot point relative to the hip (absolute thigh and shin angles).
+    const double a_th = r[0] - q[kQ0], a_sh = r[0] + r[1] - q[kQ0];
+    const double px = l1 * std::sin(a_th) + l2 * std::sin(a_sh);
+    const double py = -l1 * std::cos(a_th) - l2 * std::cos(a_sh);
+    if (q[kY] + py < h) {
+      // Inverse kinematics of the raised point (px, h - y_hip), knee flexed (negative).
+      const double y = h - q[kY];
+      const double reach = std::min(std::hypot(px, y), 0.999 * (l1 + l2));
+      const double c = std::clamp((reach * reach - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1.0, 1.0);
+      const double flex = std::acos(c);
+      const double th =
+          std::atan2(px, -y) + std::atan2(l2 * std::sin(flex), l1 + l2 * std::cos(flex));
+      delta << th + q[kQ0] - r[0], -flex - r[1];
+    }
+    if (p_.lift_feedback) {
+      // The least further knee flexion that puts the foot at h with the measured thigh.
+      const double a_m = q[sw_hip] - q[kQ0];
+      const double knee = r[1] + delta[1];
+      if (q[kY] - l1 * std::cos(a_m) - l2 * std::cos(a_m + knee) < h) {
+        const double s0 = std::acos(std::clamp((q[kY] - l1 * std::cos(a_m) - h) / l2, -1.0, 1.0));
+        // The shin angle that reaches h: backward (-s0) unless forward is nearer and allowed.
+        const double shin = (s0 <= a_m && std::abs(s0 - (a_m + knee)) < std::abs(-s0 - (a_m + knee)))
+                                ? s0
+                                : -s0;
+        delta[1] = std::min(delta[1], std::min(shin - a_m, 0.0) - r[1]);
+      }
+    }
+  }
+  // The lift's rate joins the rate references (finite difference over the control period).
+  Eigen::Vector2d rate = Eigen::Vector2d::Zero();
+  if (lift_t_ >= 0.0 && obs.t > lift_t_) rate = (delta - lift_delta_) / (obs.t - lift_t_);
+  lift_delta_ = delta;
+  lift_t_ = obs.t;
+  r[0] += delta[0];
+  r[1] += delta[1];
+  r[2] += rate[0];
+  r[3] += rate[1];
 }
 
 Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
@@ -218,7 +284,8 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     SetContext(v_m_, d_obs);
   }
   const int swing = 1 - stance_;
-  if (meter_.Update(obs) && meter_.last_step().leg == swing) {
+  if (meter_.Update(obs) && meter_.last_step().leg == swing &&
+      obs.foot_pos[swing].x() > obs.foot_pos[stance_].x()) {
     stance_ = swing;
     if (warming_up_ && static_cast<int>(meter_.steps().size()) >= p_.warmup_steps) {
       warming_up_ = false;
@@ -248,11 +315,11 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   } else {
     ref = pattern_.Query(e);
   }
-  if ((p_.clearance_knee != 0.0 || p_.clearance_hip != 0.0) && obs.terrain != nullptr &&
-      !obs.foot_contact[sw]) {
-    const double a = ClearanceActivation(*obs.terrain, obs.foot_pos[sw].x());
-    ref[0] += a * p_.clearance_hip;
-    ref[1] -= a * p_.clearance_knee;
+  if (lift_armed_ && p_.lift_clearance > 0.0 && obs.terrain != nullptr && !obs.foot_contact[sw]) {
+    ApplyLift(obs, sw_hip, &ref);
+  } else {
+    lift_delta_.setZero();
+    lift_t_ = -1.0;
   }
   Vec4 tau;
   tau[2 * sw] = p_.hip_kp * (ref[0] - q[sw_hip]) + p_.hip_kd * (ref[2] - qd[sw_hip]);

@@ -12,8 +12,9 @@
 // the front (new stance) foot to the near edge of the next obstacle ahead, saturated at d_obs_max.
 // Both may carry Gaussian noise from a seeded generator (deterministic for a seed).
 //
-// Support exchange, as for the pragmatic rules: when the swing foot lands (after at least the gait
-// meter's min_air_time in the air), legs swap roles.
+// Support exchange: when the swing foot lands (after at least the gait meter's min_air_time in the
+// air) ahead of the stance foot, legs swap roles. A swing foot that scuffs the ground behind the
+// stance foot and lifts again is not a step.
 #ifndef RABBIT_CONTROL_FUZZY_CMAC_WALKER_H_
 #define RABBIT_CONTROL_FUZZY_CMAC_WALKER_H_
 
@@ -46,18 +47,20 @@ const char* VelocityProfileKindName(VelocityProfile::Kind kind);
 struct WalkerParams {
   // PD gains (N m/rad, N m s/rad): swing hip (eq. 21), swing knee (eq. 22), stance knee (eq. 23),
   // trunk through the stance hip (eq. 24).
-  double hip_kp = 600.0, hip_kd = 25.0;
-  double knee_kp = 500.0, knee_kd = 20.0;
+  // Defaults: chosen by a sweep of the paper suite's ramp (README, "The walker").
+  double hip_kp = 350.0, hip_kd = 25.0;
+  double knee_kp = 350.0, knee_kd = 20.0;
   double stance_knee_kp = 900.0, stance_knee_kd = 35.0;
   double trunk_kp = 400.0, trunk_kd = 40.0;
-  // Velocity control (eqs. 19-20): rad per m/s, rad s per m/s... (K_V multiplies a rate of the error).
-  double k_p = 0.15, k_v = 0.0;
-  double q0_d_min = -0.10, q0_d_max = 0.30;  // rad: the range q0_d is clamped to
+  // Velocity control (eqs. 19-20): K_P in rad per m/s, K_V in rad per m/s^2 (it multiplies the
+  // error's change over a step divided by t_step).
+  double k_p = 0.2, k_v = 0.1;
+  double q0_d_min = -0.10, q0_d_max = 0.45;  // rad (-5.7, 25.8 deg): the range of q0_d
   double q0_d_initial = 0.07;                // rad: q0_d before the first step
   double v_m_initial = 0.6;                  // m/s: V_M assumed before the first measured step
   // V_M given to the FIS and the velocity control: the mean of the last `v_m_average_steps`
-  // measured steps (1: the chapter's per-step value; 2, the default, averages one step of each leg,
-  // whose step-to-step alternation would otherwise drive the fuzzy blend).
+  // measured steps (1: the chapter's per-step value; 2: one step of each leg, a stride). The legs'
+  // steps alternate by a few cm/s, which would otherwise drive the fuzzy blend step by step.
   int v_m_average_steps = 2;
   // Perception.
   double d_obs_max = 1.0;  // m: d_obs saturates here (>= 0.5 m means no obstacle to the FIS)
@@ -68,18 +71,27 @@ struct WalkerParams {
   // thigh's absolute angle in, swing thigh's out, each gait at its own trunk pitch; needs
   // SetTrunkPitches); false the chapter's e = q_st1 and q_sw1 relative to the trunk.
   bool thigh_frame = true;
-  // Clearance reflex (beyond the chapter; 0 angles = off): while the swing foot is within
-  // `clearance_lead` before an obstacle's near edge, over it, or within `clearance_trail` past its
-  // far edge, the swing knee's reference flexes by clearance_knee and the swing hip's by
-  // clearance_hip (rad), faded in and out linearly over clearance_fade (m). The reference gaits lift
-  // the foot about 2 cm in the front half of the swing, not enough for a 5 cm obstacle.
-  double clearance_knee = 0.0, clearance_hip = 0.0;
-  double clearance_lead = 0.10, clearance_trail = 0.03, clearance_fade = 0.05;
+  // Step-over foot lift (beyond the chapter; lift_clearance = 0 turns it off). The reference gaits
+  // lift the swing foot only 2-4 cm in the front half of the swing, too little for a 5 cm
+  // obstacle. Armed at a touchdown for the coming swing when d_obs < lift_d_obs (the step over) or
+  // when an obstacle lies between the feet (the trailing leg); then, while the swing foot is in
+  // the air, the gait pattern's foot point (from its hip and knee references) is raised to at least
+  // obstacle height + lift_clearance, from lift_lead before the near edge to lift_trail past the
+  // far edge (ramped in over lift_ramp and out over lift_release, in the foot's x), and turned back
+  // into hip and knee references by the leg's inverse kinematics. The pattern keeps the foot's
+  // forward progress (so the fuzzy system still sets the step length); only its height changes.
+  // With lift_feedback the knee flexes further when the measured thigh, lagging its reference,
+  // would leave the foot too low.
+  double lift_clearance = 0.06;  // m above the obstacle's top
+  double lift_d_obs = 0.25;      // m
+  double lift_lead = 0.10, lift_trail = 0.04, lift_ramp = 0.10, lift_release = 0.10;  // m
+  bool lift_feedback = true;
+  double thigh_length = 0.40, shin_length = 0.47;  // m: the model's, for the inverse kinematics
   // Baseline: instead of blending, use only the gait of the strongest rule (nearest-gait switching).
   bool nearest_gait = false;
   // Start: the first `warmup_steps` steps walk with the pragmatic rules `warmup` (the start gait's),
   // and the Fuzzy-CMAC takes over at the touchdown that ends them (0: from t = 0).
-  int warmup_steps = 0;
+  int warmup_steps = 6;
   PragmaticParams warmup;
   // Keep the tracking log (references and measurements) every n-th control period (0: none).
   int log_every = 1;
@@ -125,7 +137,10 @@ class FuzzyCmacWalker final : public Controller {
   void OnTouchdown(const Observation& obs);
   void SetContext(double v_m, double d_obs);
   double Gaussian();
-  double ClearanceActivation(const Terrain& terrain, double foot_x) const;
+  // The foot lift's target height at foot abscissa x (0: none needed).
+  double LiftHeight(const Terrain& terrain, double foot_x) const;
+  // Adds the foot lift to the swing references ref (hip, knee, rates).
+  void ApplyLift(const Observation& obs, int sw_hip, Eigen::Vector4d* ref);
 
   WalkerParams p_;
   FuzzyCmac pattern_;
@@ -141,6 +156,9 @@ class FuzzyCmacWalker final : public Controller {
   bool have_error_ = false;
   std::uint64_t rng_;
   long periods_ = 0;
+  bool lift_armed_ = false;                               // set at each touchdown
+  Eigen::Vector2d lift_delta_ = Eigen::Vector2d::Zero();  // last lift (hip, knee), rad
+  double lift_t_ = -1.0;                                  // its time (-1: none)
   std::vector<WalkerStep> steps_;
   std::vector<WalkerTrack> tracking_;
 };

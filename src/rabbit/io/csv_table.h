@@ -15,9 +15,9 @@ namespace rabbit {
 
 // What a numeric cell may hold besides a finite number.
 enum class CsvNumber {
-  kFinite,        // a finite number only
-  kFiniteOrNan,   // or `nan` (any case, optional sign): a missing value, returned as quiet NaN
-  kAny,           // or `nan`, `inf`, `-inf`, `infinity` (returned as such)
+  kFinite,       // a finite number only
+  kFiniteOrNan,  // or `nan` (any case, optional sign): a missing value, returned as quiet NaN
+  kAny,          // or `nan`, `inf`, `-inf`, `infinity` (returned as such)
 };
 
 class CsvTable {
@@ -51,16 +51,15 @@ class CsvTable {
   // The cell as an integer (a number with no fractional part, within int range).
   int Integer(size_t row, size_t column) const;
   // A whole column by name (Column(name), then Number for every row).
-  std::vector<double> Numbers(const std::string& name,
-                              CsvNumber policy = CsvNumber::kFinite) const;
+  std::vector<double> Numbers(const std::string& name, CsvNumber policy = CsvNumber::kFinite) const;
 
  private:
   std::string file_;
   int header_line_ = 1;
   std::vector<std::string> header_;
-  std::string cells_;             // every cell's text, unescaped, back to back
-  std::vector<size_t> offsets_;   // cell k is cells_[offsets_[k], offsets_[k + 1])
-  std::vector<int> lines_;        // per row, its first line
+  std::string cells_;            // every cell's text, unescaped, back to back
+  std::vector<size_t> offsets_;  // cell k is cells_[offsets_[k], offsets_[k + 1])
+  std::vector<int> lines_;       // per row, its first line
 };
 
 }  // namespace rabbit

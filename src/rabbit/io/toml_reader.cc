@@ -213,6 +213,14 @@ TomlReader TomlReader::Table(const std::string& key) {
   return TomlReader(owners_, std::move(tables), file_, PathOf(key), line);
 }
 
+TomlReader TomlReader::WholeTable(const std::string& key) {
+  const toml::node* node = Node(key);
+  if (node == nullptr) return TomlReader(owners_, {}, file_, PathOf(key), line_);
+  const auto* table = node->as_table();
+  if (table == nullptr) Fail(key, "expected a table");
+  return TomlReader(owners_, {table}, file_, PathOf(key), LineOf(node));
+}
+
 std::vector<TomlReader> TomlReader::TableArray(const std::string& key) {
   std::vector<TomlReader> out;
   const toml::node* node = Node(key);

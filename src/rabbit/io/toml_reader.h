@@ -51,6 +51,9 @@ class TomlReader {
                                    const std::vector<std::string>& default_value);
   // A sub-table (an empty reader when missing).
   TomlReader Table(const std::string& key);
+  // A sub-table taken whole from the first layer that has it (no merging with lower layers): for
+  // tables that only make sense as a whole, like a velocity profile.
+  TomlReader WholeTable(const std::string& key);
   // An array of tables ([[key]]); empty when missing.
   std::vector<TomlReader> TableArray(const std::string& key);
 

@@ -90,8 +90,8 @@ GnuplotResult RunGnuplot(const std::string& executable, const GnuplotJob& job, d
   }
   std::string pattern = (base / "rabbit-report-XXXXXX").string();
   if (::mkdtemp(pattern.data()) == nullptr) {
-    result.error = "cannot create a temporary directory in " + base.string() + ": " +
-                   std::strerror(errno);
+    result.error =
+        "cannot create a temporary directory in " + base.string() + ": " + std::strerror(errno);
     return result;
   }
   TempDir work{fs::path(pattern)};
@@ -128,8 +128,7 @@ GnuplotResult RunGnuplot(const std::string& executable, const GnuplotJob& job, d
     return result;
   }
 
-  const auto deadline =
-      std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);
+  const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(timeout);
   int status = 0;
   while (true) {
     const pid_t done = ::waitpid(pid, &status, WNOHANG);
@@ -162,8 +161,8 @@ GnuplotResult RunGnuplot(const std::string& executable, const GnuplotJob& job, d
   for (const std::string& name : job.outputs) {
     std::string text;
     if (!IsPlainName(name) || !ReadWhole(work.path / name, &text) || text.empty()) {
-      result.error = "'" + executable + "' did not write " + name +
-                     (log.empty() ? "" : ": " + Head(log, 3));
+      result.error =
+          "'" + executable + "' did not write " + name + (log.empty() ? "" : ": " + Head(log, 3));
       result.outputs.clear();
       return result;
     }

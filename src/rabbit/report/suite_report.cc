@@ -202,7 +202,8 @@ void ReadMeta(const std::string& path, RunData* run) {
   if (description != meta.end()) run->description = description->second.first;
 }
 
-void ReadTrajectory(const std::string& path, Trajectory* trajectory) {
+// Rows whose coordinates are missing (`nan`: a run that diverged) are left out and counted.
+int ReadTrajectory(const std::string& path, Trajectory* trajectory) {
   const CsvTable table = CsvTable::Read(path);
   const char* const kCoords[] = {"x_m",     "y_m",     "q0_rad", "q11_rad",
                                  "q12_rad", "q21_rad", "q22_rad"};
@@ -212,21 +213,30 @@ void ReadTrajectory(const std::string& path, Trajectory* trajectory) {
   const bool has_contact = table.HasColumn("foot1_contact") && table.HasColumn("foot2_contact");
   const size_t c_contact1 = has_contact ? table.Column("foot1_contact") : 0;
   const size_t c_contact2 = has_contact ? table.Column("foot2_contact") : 0;
-  const size_t n = table.num_rows();
-  trajectory->t.resize(n);
-  trajectory->q.resize(n);
-  if (has_contact) trajectory->contact.resize(n);
-  for (size_t r = 0; r < n; ++r) {
-    trajectory->t[r] = table.Number(r, c_t);
-    if (r > 0 && !(trajectory->t[r] > trajectory->t[r - 1])) {
-      throw InputError(path, table.line(r), "t_s", "time does not increase");
+  int skipped = 0;
+  double previous = -std::numeric_limits<double>::infinity();
+  for (size_t r = 0; r < table.num_rows(); ++r) {
+    const double t = table.Number(r, c_t);
+    if (t < previous) throw InputError(path, table.line(r), "t_s", "time decreases");
+    previous = t;
+    std::array<double, 7> q;
+    bool finite = true;
+    for (int i = 0; i < 7; ++i) {
+      q[i] = table.Number(r, c_q[i], CsvNumber::kFiniteOrNan);
+      finite = finite && std::isfinite(q[i]);
     }
-    for (int i = 0; i < 7; ++i) trajectory->q[r][i] = table.Number(r, c_q[i]);
+    if (!finite) {
+      ++skipped;
+      continue;
+    }
+    trajectory->t.push_back(t);
+    trajectory->q.push_back(q);
     if (has_contact) {
-      trajectory->contact[r] = (table.Number(r, c_contact1) > 0.0 ? 1 : 0) |
-                               (table.Number(r, c_contact2) > 0.0 ? 2 : 0);
+      trajectory->contact.push_back((table.Number(r, c_contact1) > 0.0 ? 1 : 0) |
+                                    (table.Number(r, c_contact2) > 0.0 ? 2 : 0));
     }
   }
+  return skipped;
 }
 
 void ReadSteps(const std::string& path, RunData* run) {
@@ -269,13 +279,13 @@ void ReadTracking(const std::string& path, Tracking* tracking) {
     const char* name;
     std::vector<double>* values;
   };
-  const Field fields[] = {{"q_sw1_d_rad", &tracking->hip_d}, {"q_sw1_rad", &tracking->hip},
+  const Field fields[] = {{"q_sw1_d_rad", &tracking->hip_d},  {"q_sw1_rad", &tracking->hip},
                           {"q_sw2_d_rad", &tracking->knee_d}, {"q_sw2_rad", &tracking->knee},
                           {"q0_d_rad", &tracking->q0_d},      {"q0_rad", &tracking->q0}};
   tracking->t = table.Numbers("t_s");
   for (size_t r = 1; r < tracking->t.size(); ++r) {
-    if (!(tracking->t[r] > tracking->t[r - 1])) {
-      throw InputError(path, table.line(r), "t_s", "time does not increase");
+    if (tracking->t[r] < tracking->t[r - 1]) {
+      throw InputError(path, table.line(r), "t_s", "time decreases");
     }
   }
   for (const Field& f : fields) *f.values = table.Numbers(f.name, CsvNumber::kFiniteOrNan);
@@ -306,13 +316,18 @@ void ReadTerrain(const std::string& path, std::vector<Obstacle>* obstacles) {
             [](const Obstacle& a, const Obstacle& b) { return a.x_start < b.x_start; });
 }
 
-RunData ReadRun(const fs::path& dir, const SummaryRow& row) {
+RunData ReadRun(const fs::path& dir, const SummaryRow& row, std::vector<std::string>* warnings) {
   RunData run;
   run.row = row;
   const fs::path folder = dir / row.run;
   run.folder = folder.string();
   ReadMeta((folder / "meta.csv").string(), &run);
-  ReadTrajectory((folder / "trajectory.csv").string(), &run.trajectory);
+  const std::string trajectory = (folder / "trajectory.csv").string();
+  const int skipped = ReadTrajectory(trajectory, &run.trajectory);
+  if (skipped > 0 && warnings != nullptr) {
+    warnings->push_back(trajectory + ": " + std::to_string(skipped) +
+                        " rows with missing coordinates (nan) left out");
+  }
   ReadSteps((folder / "steps.csv").string(), &run);
   ReadTracking((folder / "tracking.csv").string(), &run.tracking);
   ReadTerrain((folder / "terrain.csv").string(), &run.obstacles);
@@ -394,8 +409,8 @@ std::string Base64(const std::string& data) {
     out += kAlphabet[v >> 12 & 63];
     out += "==";
   } else if (i + 2 == data.size()) {
-    const unsigned v = static_cast<unsigned char>(data[i]) << 16 |
-                       static_cast<unsigned char>(data[i + 1]) << 8;
+    const unsigned v =
+        static_cast<unsigned char>(data[i]) << 16 | static_cast<unsigned char>(data[i + 1]) << 8;
     out += kAlphabet[v >> 18 & 63];
     out += kAlphabet[v >> 12 & 63];
     out += kAlphabet[v >> 6 & 63];
@@ -413,9 +428,16 @@ std::string StripSvgProlog(const std::string& svg) {
 std::string VariantLabel(const std::string& variant) {
   if (variant == "fuzzy_cmac") return "Fuzzy-CMAC";
   if (variant == "main") return "main controller";
-  if (variant == "pragmatic") return "pragmatic rules (baseline)";
+  if (variant == "pragmatic") return "pragmatic (baseline)";
   if (variant == "nearest_gait") return "nearest gait (baseline)";
   return variant;
+}
+
+// The same without "(baseline)", for the summary table (where baselines are in italics).
+std::string VariantShortLabel(const std::string& variant) {
+  if (variant == "pragmatic") return "pragmatic";
+  if (variant == "nearest_gait") return "nearest gait";
+  return VariantLabel(variant);
 }
 
 std::string VariantColor(const std::string& variant) {
@@ -575,26 +597,29 @@ size_t StickDiagramFigure(const RunData& run, const Window& w, const SuiteReport
   x_lo -= 0.15;
   x_hi += 0.15;
   const double y_lo = -0.08;
-  y_hi = std::max(y_hi, 0.5) + 0.28;  // room for the key above the figures
-  const int width = options.figure_width;
-  const double plot_width = width - 95.0;
-  const int height = static_cast<int>(std::clamp(
-      plot_width * (y_hi - y_lo) / (x_hi - x_lo) + 80.0, 200.0, 1.4 * width));
+  y_hi = std::max(y_hi, 0.5) + 0.08;
+  // Equal scales on both axes, at most kPixelsPerMetre so that a short window is not blown up.
+  const double kPixelsPerMetre = 300.0, kMarginX = 95.0, kMarginY = 80.0;
+  const double scale = std::min(kPixelsPerMetre, (options.figure_width - kMarginX) / (x_hi - x_lo));
+  const int width = static_cast<int>(std::lround((x_hi - x_lo) * scale + kMarginX));
+  const int height = static_cast<int>(std::lround((y_hi - y_lo) * scale + kMarginY));
   char caption[400];
   std::snprintf(caption, sizeof caption,
                 "Stick diagram, %s: t = %.2f&ndash;%.2f s, a figure every %.2f s (%d figures); "
                 "leg 1 <span style=\"color:%s\">&#9632;</span>, leg 2 "
+                "<span style=\"color:%s\">&#9632;</span>, trunk "
                 "<span style=\"color:%s\">&#9632;</span>, hip path dotted.",
                 w.what.c_str(), w.t0, w.t1, options.stick_every, frames, kLegColors[0],
-                kLegColors[1]);
-  const size_t k = figures->Begin(width, height, caption,
-                                  "stick diagram of " + run.row.run + ", " + w.what);
+                kLegColors[1], kTrunkColor);
+  const size_t k =
+      figures->Begin(width, height, caption, "stick diagram of " + run.row.run + ", " + w.what);
   std::ostringstream& s = figures->script();
-  const std::string d_trunk = figures->AddData(trunk.str()), d_leg1 = figures->AddData(leg[0].str()),
+  const std::string d_trunk = figures->AddData(trunk.str()),
+                    d_leg1 = figures->AddData(leg[0].str()),
                     d_leg2 = figures->AddData(leg[1].str()), d_path = figures->AddData(path.str());
   s << "set size ratio -1\nset xrange [" << x_lo << ':' << x_hi << "]\nset yrange [" << y_lo << ':'
     << y_hi << "]\nset xlabel 'x (m)'\nset ylabel 'y (m)'\nunset grid\n"
-    << "set key top left horizontal\n"
+    << "unset key\n"
     << "set object 1 rect from " << x_lo << ',' << y_lo << " to " << x_hi
     << ",0 fc rgb '#efe8dc' fs solid 1.0 noborder behind\n"
     << "set arrow 1 from " << x_lo << ",0 to " << x_hi << ",0 nohead lw 2 lc rgb '#555555' back\n";
@@ -646,25 +671,26 @@ size_t StepsFigure(const std::vector<const RunData*>& runs, bool with_obstacles,
     data.push_back(figures->AddData(d.str()));
   }
   std::ostringstream& s = figures->script();
-  s << "set multiplot layout " << panels << ",1 margins 0.08,0.80,0.08,0.96 spacing 0,0.06\n"
+  s << "set multiplot layout " << panels << ",1 margins 0.08,0.73,0.11,0.96 spacing 0,0.07\n"
     << "set xrange [" << step_lo - 0.5 << ':' << step_hi + 0.5 << "]\n"
     << "set key outside right top vertical\nset format x '%g'\n";
-  auto series = [&](int column, const char* what, bool points) {
-    for (size_t v = 0; v < runs.size(); ++v) {
-      s << (v == 0 ? "" : ", \\\n  ") << data[v] << " using 1:" << column << " with "
-        << (points ? "linespoints pt 7 ps 0.45" : "lines") << " lw 1.4 lc rgb '"
+  // The main variant drawn last (on top of its baselines, which share its first steps); the key,
+  // inverted, lists it first and the baselines in summary order.
+  auto series = [&](int column, const char* what) {
+    for (size_t v = runs.size(); v-- > 0;) {
+      s << data[v] << " using 1:" << column << " with linespoints pt 7 ps 0.45 lw 1.4 lc rgb '"
         << VariantColor(runs[v]->row.variant) << "' title "
         << GnuplotQuote(std::string(what) + ", " + VariantLabel(runs[v]->row.variant))
-        << " noenhanced";
+        << " noenhanced" << (v == 0 ? "" : ", \\\n  ");
     }
-    s << '\n';
   };
-  s << "set ylabel 'velocity (m/s)'\nunset xlabel\n";
-  s << "plot " << data[0] << " using 1:2 with steps lw 1.6 dt 2 lc rgb '#000000' title "
-    << GnuplotQuote("V_d, " + VariantLabel(main.row.variant)) << " noenhanced, \\\n  ";
-  series(3, "V_M", true);
+  s << "set key invert\nset ylabel 'velocity (m/s)'\nunset xlabel\nplot ";
+  series(3, "V_M");
+  s << ", \\\n  " << data[0] << " using 1:2 with steps lw 1.6 dt 2 lc rgb '#000000' title "
+    << GnuplotQuote("V_d, " + VariantLabel(main.row.variant)) << " noenhanced\n";
   s << "set ylabel 'L_{step} (m)'\n" << (panels == 2 ? "set xlabel 'step'\n" : "") << "plot ";
-  series(4, "L_step", true);
+  series(4, "L_step");
+  s << '\n';
   if (with_obstacles) {
     s << "set ylabel 'd_{obs} (m)'\nset xlabel 'step'\nset yrange [0:*]\nplot " << data[0]
       << " using 1:5 with linespoints pt 7 ps 0.45 lw 1.4 lc rgb '"
@@ -686,7 +712,9 @@ size_t TrackingFigure(const RunData& run, const Window& w, const SuiteReportOpti
     const int swing = tr.stance[j] == 0 ? 0 : 3 - tr.stance[j];  // 0: no leg in support
     if (previous >= 0 && swing != previous) d << '\n';  // a support exchange breaks the lines
     previous = swing;
-    auto actual = [&](double v, int leg) { return DataNumber(swing == leg ? v * kRadToDeg : kNan); };
+    auto actual = [&](double v, int leg) {
+      return DataNumber(swing == leg ? v * kRadToDeg : kNan);
+    };
     d << DataNumber(tr.t[j]) << ' ' << DataNumber(tr.hip_d[j] * kRadToDeg) << ' '
       << actual(tr.hip[j], 1) << ' ' << actual(tr.hip[j], 2) << ' '
       << DataNumber(tr.knee_d[j] * kRadToDeg) << ' ' << actual(tr.knee[j], 1) << ' '
@@ -699,12 +727,12 @@ size_t TrackingFigure(const RunData& run, const Window& w, const SuiteReportOpti
                 "trunk pitch, reference (dashed) and actual, coloured by the leg that swings.",
                 w.what.c_str(), w.t0, w.t1);
   const size_t k =
-      figures->Begin(options.figure_width, 640, caption, "joint tracking of " + run.row.run);
+      figures->Begin(options.figure_width, 680, caption, "joint tracking of " + run.row.run);
   const std::string data = figures->AddData(d.str());
   std::ostringstream& s = figures->script();
   const std::string leg1 = std::string("lc rgb '") + kLegColors[0] + "'",
                     leg2 = std::string("lc rgb '") + kLegColors[1] + "'";
-  s << "set multiplot layout 3,1 margins 0.08,0.80,0.08,0.97 spacing 0,0.05\n"
+  s << "set multiplot layout 3,1 margins 0.08,0.73,0.09,0.97 spacing 0,0.06\n"
     << "set xrange [" << w.t0 << ':' << w.t1 << "]\nset key outside right top vertical\n"
     << "unset xlabel\nset ylabel 'swing hip (deg)'\n"
     << "plot " << data << " using 1:2 with lines dt 2 lw 1.5 lc rgb '#000000' title 'reference', "
@@ -745,7 +773,7 @@ size_t WeightsFigure(const RunData& run, const SuiteReportOptions& options, Figu
   const std::string data = figures->AddData(d.str());
   std::ostringstream& s = figures->script();
   s << "set xrange [" << step_lo - 0.5 << ':' << step_hi + 0.5 << "]\nset yrange [0:1.02]\n"
-    << "set lmargin at screen 0.08\nset rmargin at screen 0.80\n"
+    << "set lmargin at screen 0.08\nset rmargin at screen 0.73\n"
     << "set key outside right top vertical\nset boxwidth 0.9 relative\n"
     << "set style fill solid 1.0 noborder\nset xlabel 'step'\nset ylabel 'weight w_{Ok}'\n"
     << "set grid noxtics\nplot ";
@@ -766,27 +794,34 @@ const char kStyle[] = R"css(
 :root{--fg:#1d1f23;--muted:#5f6670;--line:#d5d9de;--pass:#e2f3e5;--fail:#fbe2df}
 *{box-sizing:border-box}
 body{font:15px/1.5 "DejaVu Sans",system-ui,-apple-system,"Segoe UI",Roboto,sans-serif;color:var(--fg);margin:0;background:#eef0f3}
-main{max-width:1320px;margin:0 auto;padding:28px 36px 64px;background:#fff;min-height:100vh}
+main{max-width:1360px;margin:0 auto;padding:28px 30px 64px;background:#fff;min-height:100vh}
 h1{font-size:27px;margin:0 0 4px;font-weight:650}
 h2{font-size:21px;margin:44px 0 6px;padding-top:14px;border-top:2px solid #e3e6ea}
 h3{font-size:16px;margin:26px 0 6px;color:#2c3440}
 p{margin:6px 0}
 .note{color:var(--muted);font-size:13.5px}
 .warning{background:#fff4d6;border:1px solid #f0d48a;padding:8px 12px;border-radius:4px;font-size:14px}
-table{border-collapse:collapse;font-size:13px}
-th,td{border:1px solid var(--line);padding:4px 7px;text-align:right;vertical-align:top}
+table{border-collapse:collapse;font-size:12.5px}
+th,td{border:1px solid var(--line);padding:4px 6px;text-align:right;vertical-align:top}
 th{background:#f1f3f6;font-weight:600;text-align:center}
 td.text{text-align:left}
 td.scenario{text-align:left;font-weight:600;background:#fafbfc}
-td.criteria{text-align:left;max-width:300px;font-size:12px;color:#7a1d16}
-td.criteria ul{margin:0;padding-left:16px}
+td{white-space:nowrap}
+td.criteria{text-align:left;white-space:normal;font-size:12.5px;color:#8a1c14;background:#fdf3f2;border-top:0}
+td.criteria ul{display:inline;margin:0;padding:0}
+td.criteria li{display:inline;margin-left:10px}
+td.criteria li+li:before{content:"\2022\00a0";color:#c0a0a0}
+td.variant{text-align:left;white-space:nowrap}
+td.variant.baseline{font-style:italic;color:#4a5058}
+td.status{white-space:nowrap}
+.reason{font-size:12px;color:var(--muted);white-space:normal;min-width:160px;max-width:240px}
 tr.pass td.status{background:var(--pass);color:#16652a;font-weight:700}
 tr.fail td.status{background:var(--fail);color:#a3150f;font-weight:700}
 tr.group-start td{border-top:2px solid #9aa3ad}
 .swatch{display:inline-block;width:11px;height:11px;border-radius:2px;margin-right:6px;vertical-align:-1px}
 .table-wrap{overflow-x:auto}
 figure{margin:10px 0 22px}
-figure img{display:block;width:100%;max-width:1000px;height:auto;border:1px solid #e6e8eb;border-radius:3px}
+figure img{display:block;max-width:100%;height:auto;border:1px solid #e6e8eb;border-radius:3px}
 figcaption{font-size:13px;color:var(--muted);max-width:1000px;margin-top:4px}
 details{margin:10px 0}
 summary{cursor:pointer;color:#2c3440;font-weight:600}
@@ -864,15 +899,23 @@ const char kReplayScript[] = R"js(
       ctx.fillText(text,10,20);
       ctx.fillStyle='#777'; ctx.font='11px sans-serif';
       ctx.fillText('filled foot: on the ground',10,36);
+      var st=-1; for(var j=0;4*j<d.s.length&&d.s[4*j]<=d.t[frame]+1e-9;j++) st=j;
+      if(st>=0){
+        var v=function(x,k){return x===null?'\u2013':x.toFixed(k);};
+        ctx.textAlign='right'; ctx.fillStyle='#333'; ctx.font='13px sans-serif';
+        ctx.fillText('step '+(st+1)+' of '+(d.s.length/4)+':  V_d '+v(d.s[4*st+1],2)+'  V_M '+
+          v(d.s[4*st+2],3)+' m/s  L_step '+v(d.s[4*st+3],3)+' m',W-10,20);
+      }
       label.textContent='t = '+d.t[frame].toFixed(2)+' / '+d.t[n-1].toFixed(2)+' s';
       slider.value=String(frame);
     }
     function setButton(){button.textContent=playing?'\u275a\u275a Pause':'\u25b6 Play';}
     function tick(now){
       if(!playing) return;
-      clock+=(now-last)/1000*parseFloat(speed.value); last=now;
-      var f=Math.floor(clock*d.fps+1e-9);
-      if(f>=n-1){f=n-1;playing=false;setButton();}
+      // The frame's timestamp may precede the click's performance.now(): never step back.
+      clock+=Math.max(0,now-last)/1000*(parseFloat(speed.value)||1); last=Math.max(last,now);
+      var f=Math.max(0,Math.min(n-1,Math.floor(clock*d.fps+1e-9)));
+      if(f>=n-1){playing=false;setButton();}
       if(f!==frame){frame=f;draw();}
       if(playing) requestAnimationFrame(tick);
     }
@@ -917,8 +960,8 @@ std::string ReplayJson(const RunData& run, const SuiteReportOptions& options) {
       }
       t += JsonNumber(time, dec);
       for (int i = 0; i < 6; ++i) {
-        p += (i == 0 ? "" : ",") + JsonNumber(points[i].x, dec) + ',' +
-             JsonNumber(points[i].y, dec);
+        p +=
+            (i == 0 ? "" : ",") + JsonNumber(points[i].x, dec) + ',' + JsonNumber(points[i].y, dec);
       }
       c += std::to_string(contact);
       ++frames;
@@ -929,9 +972,16 @@ std::string ReplayJson(const RunData& run, const SuiteReportOptions& options) {
     obs += (obs.empty() ? "[" : ",[") + JsonNumber(o.x_start, dec) + ',' +
            JsonNumber(o.length, dec) + ',' + JsonNumber(o.height, dec) + ']';
   }
-  return "{\"fps\":" + std::to_string(options.replay_fps) + ",\"frames\":" +
-         std::to_string(frames) + ",\"t\":[" + t + "],\"p\":[" + p + "],\"c\":[" +
-         (tr.contact.empty() ? "" : c) + "],\"obs\":[" + obs + "]}";
+  // Per step: touchdown time, V_d, V_M, L_step (for the overlay).
+  std::string steps;
+  for (const Step& s : run.steps) {
+    const double v_m = s.t_step > 0.0 ? s.v_m : kNan;
+    steps += (steps.empty() ? "" : ",") + JsonNumber(s.t, dec) + ',' + JsonNumber(s.v_d, 3) + ',' +
+             JsonNumber(v_m, 3) + ',' + JsonNumber(s.l_step, 3);
+  }
+  return "{\"fps\":" + std::to_string(options.replay_fps) +
+         ",\"frames\":" + std::to_string(frames) + ",\"t\":[" + t + "],\"p\":[" + p + "],\"c\":[" +
+         (tr.contact.empty() ? "" : c) + "],\"obs\":[" + obs + "],\"s\":[" + steps + "]}";
 }
 
 std::string ReplayHtml(const RunData& run, size_t index, const SuiteReportOptions& options) {
@@ -956,44 +1006,51 @@ std::string ReplayHtml(const RunData& run, size_t index, const SuiteReportOption
 
 std::string SummaryTable(const std::vector<RunData>& runs,
                          const std::vector<ScenarioGroup>& groups) {
+  const int kColumns = 14;
   std::ostringstream html;
   html << "<div class=\"table-wrap\"><table class=\"summary\"><thead><tr>"
-          "<th>scenario</th><th>variant</th><th>result</th><th>outcome</th><th>reason</th>"
-          "<th>failed criteria</th><th>duration<br>s</th><th>distance<br>m</th><th>steps</th>"
-          "<th>mean |V<sub>M</sub>&minus;V<sub>d</sub>|<br>m/s</th>"
-          "<th>final |V<sub>M</sub>&minus;V<sub>d</sub>|<br>m/s</th>"
-          "<th>L<sub>step</sub> mean<br>m</th><th>L<sub>step</sub> min&ndash;max<br>m</th>"
-          "<th>L<sub>step</sub> spread<br>mm</th><th>saturation<br>s</th><th>energy<br>J</th>"
-          "<th>CoT</th><th>wall<br>s</th><th>real time<br>&times;</th></tr></thead><tbody>\n";
+          "<th>scenario</th><th>variant</th><th>result</th><th>outcome</th>"
+          "<th>duration<br>s</th><th>distance<br>m</th><th>steps</th>"
+          "<th>|V<sub>M</sub>&minus;V<sub>d</sub>| m/s<br>mean / final</th>"
+          "<th>L<sub>step</sub> m<br>mean (min&ndash;max)</th>"
+          "<th>L<sub>step</sub><br>spread mm</th><th>saturation<br>s</th><th>energy<br>J</th>"
+          "<th>cost of<br>transport</th><th>wall "
+          "s<br>(&times;&nbsp;real&nbsp;time)</th></tr></thead>"
+          "<tbody>\n";
   for (size_t g = 0; g < groups.size(); ++g) {
     const ScenarioGroup& group = groups[g];
+    size_t rows = 0;
+    for (size_t k : group.runs) rows += runs[k].row.failed.empty() ? 1 : 2;
     for (size_t i = 0; i < group.runs.size(); ++i) {
       const SummaryRow& r = runs[group.runs[i]].row;
-      html << "<tr class=\"" << (r.passed ? "pass" : "fail") << (i == 0 ? " group-start" : "")
-           << "\">";
+      const char* result = r.passed ? "pass" : "fail";
+      html << "<tr class=\"" << result << (i == 0 ? " group-start" : "") << "\">";
       if (i == 0) {
-        html << "<td class=\"scenario\" rowspan=\"" << group.runs.size()
-             << "\"><a href=\"#scenario-" << g << "\">" << HtmlEscape(group.name) << "</a></td>";
+        html << "<td class=\"scenario\" rowspan=\"" << rows << "\"><a href=\"#scenario-" << g
+             << "\">" << HtmlEscape(group.name) << "</a></td>";
       }
-      html << "<td class=\"text\"><span class=\"swatch\" style=\"background:"
-           << VariantColor(r.variant) << "\"></span>" << HtmlEscape(VariantLabel(r.variant))
-           << "</td><td class=\"status\">" << (r.passed ? "&#10003; pass" : "&#10007; fail")
-           << "</td><td class=\"text\">" << HtmlEscape(r.outcome) << "</td><td class=\"text\">"
-           << HtmlEscape(r.reason) << "</td><td class=\"criteria\">";
-      if (!r.failed.empty()) {
-        html << "<ul>";
-        for (const std::string& f : r.failed) html << "<li>" << HtmlEscape(f) << "</li>";
-        html << "</ul>";
-      }
+      html << "<td class=\"variant" << (IsMainVariant(r.variant) ? "" : " baseline")
+           << "\"><span class=\"swatch\" style=\"background:" << VariantColor(r.variant)
+           << "\"></span>" << HtmlEscape(VariantShortLabel(r.variant))
+           << "</td><td class=\"status\">"
+           << (r.passed ? "&#10003;&nbsp;pass" : "&#10007;&nbsp;fail") << "</td><td class=\"text\">"
+           << HtmlEscape(r.outcome);
+      if (!r.reason.empty()) html << "<div class=\"reason\">" << HtmlEscape(r.reason) << "</div>";
       html << "</td><td>" << CellNumber(r.duration, 2) << "</td><td>" << CellNumber(r.distance, 2)
            << "</td><td>" << CellNumber(r.steps, 0) << "</td><td>"
-           << CellNumber(r.mean_speed_error, 3) << "</td><td>"
-           << CellNumber(r.final_speed_error, 3) << "</td><td>" << CellNumber(r.l_mean, 3)
-           << "</td><td>" << CellNumber(r.l_min, 3) << "&ndash;" << CellNumber(r.l_max, 3)
-           << "</td><td>" << CellNumber(r.l_spread * 1000.0, 1) << "</td><td>"
-           << CellNumber(r.saturation, 2) << "</td><td>" << CellNumber(r.energy, 1) << "</td><td>"
-           << CellNumber(r.cost_of_transport, 3) << "</td><td>" << CellNumber(r.wall, 2)
-           << "</td><td>" << CellNumber(r.real_time_factor, 0) << "</td></tr>\n";
+           << CellNumber(r.mean_speed_error, 3) << " / " << CellNumber(r.final_speed_error, 3)
+           << "</td><td>" << CellNumber(r.l_mean, 3) << " (" << CellNumber(r.l_min, 3) << "&ndash;"
+           << CellNumber(r.l_max, 3) << ")</td><td>" << CellNumber(r.l_spread * 1000.0, 1)
+           << "</td><td>" << CellNumber(r.saturation, 2) << "</td><td>" << CellNumber(r.energy, 1)
+           << "</td><td>" << CellNumber(r.cost_of_transport, 3) << "</td><td>"
+           << CellNumber(r.wall, 2) << " (" << CellNumber(r.real_time_factor, 0)
+           << "&times;)</td></tr>\n";
+      if (!r.failed.empty()) {
+        html << "<tr class=\"criteria-row\"><td class=\"criteria\" colspan=\"" << kColumns - 1
+             << "\"><b>failed criteria:</b><ul>";
+        for (const std::string& f : r.failed) html << "<li>" << HtmlEscape(f) << "</li>";
+        html << "</ul></td></tr>\n";
+      }
     }
   }
   html << "</tbody></table></div>\n";
@@ -1025,8 +1082,8 @@ std::string StepsTable(const RunData& run) {
 
 std::string TerrainText(const std::vector<Obstacle>& obstacles) {
   if (obstacles.empty()) return "flat ground";
-  std::string out = std::to_string(obstacles.size()) +
-                    (obstacles.size() == 1 ? " obstacle: " : " obstacles: ");
+  std::string out =
+      std::to_string(obstacles.size()) + (obstacles.size() == 1 ? " obstacle: " : " obstacles: ");
   for (size_t k = 0; k < obstacles.size(); ++k) {
     char buffer[160];
     std::snprintf(buffer, sizeof buffer, "%sx = %.2f&ndash;%.2f m, %.0f mm high",
@@ -1119,7 +1176,7 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
   const std::string summary_path = (root / "summary.csv").string();
   const std::vector<SummaryRow> rows = ReadSummary(summary_path);
   std::vector<RunData> runs;
-  for (const SummaryRow& row : rows) runs.push_back(ReadRun(root, row));
+  for (const SummaryRow& row : rows) runs.push_back(ReadRun(root, row, warnings));
   const std::vector<ScenarioGroup> groups = GroupByScenario(runs);
 
   // Figures of every scenario, rendered together.
@@ -1130,8 +1187,8 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
     std::vector<size_t>& mine = scenario_figures[g];
     const Trajectory& tr = main.trajectory;
     if (!tr.t.empty()) {
-      mine.push_back(StickDiagramFigure(main, StartWindow(tr, options.stick_window), options,
-                                        &figures));
+      mine.push_back(
+          StickDiagramFigure(main, StartWindow(tr, options.stick_window), options, &figures));
       if (!main.obstacles.empty()) {
         mine.push_back(StickDiagramFigure(
             main, ObstacleWindow(tr, main.obstacles.front(), options.stick_window), options,
@@ -1158,8 +1215,8 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
   std::string figure_error;
   const bool have_figures = figures.Render(&figure_error);
   if (!have_figures) {
-    const std::string warning = "figures left out: gnuplot (" + options.gnuplot +
-                                ") could not draw them: " + figure_error;
+    const std::string warning =
+        "figures left out: gnuplot (" + options.gnuplot + ") could not draw them: " + figure_error;
     if (warnings != nullptr) warnings->push_back(warning);
     figure_error = warning;
   }
@@ -1182,13 +1239,15 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
        << groups.size() << (groups.size() == 1 ? " scenario" : " scenarios") << ", <b>" << passed
        << " passed</b>, <b>" << rows.size() - static_cast<size_t>(passed)
        << " failed</b>. Rebuilt from the CSV files in <code>" << HtmlEscape(dir)
-       << "</code> by <code>rabbit report</code> (rabbit " << RABBIT_VERSION << ") on "
-       << UtcNow()
+       << "</code> by <code>rabbit report</code> (rabbit " << RABBIT_VERSION << ") on " << UtcNow()
        << ". Variants: the Fuzzy-CMAC walker, and as baselines the pragmatic rules at the "
           "nearest reference gait and the Fuzzy-CMAC with its weights rounded to the strongest "
           "rule.</p>\n";
   if (!have_figures) html << "<p class=\"warning\">" << HtmlEscape(figure_error) << "</p>\n";
-  html << "<h2 style=\"border:0;margin-top:20px\">Summary</h2>\n" << SummaryTable(runs, groups);
+  html << "<h2 style=\"border:0;margin-top:20px\">Summary</h2>\n<p class=\"note\">One row per run, "
+          "grouped by scenario, baselines in italics below their scenario's main variant; "
+          "&ndash; marks a value the run could not measure.</p>\n"
+       << SummaryTable(runs, groups);
 
   size_t replay_index = 0;
   for (size_t g = 0; g < groups.size(); ++g) {

@@ -40,6 +40,7 @@ struct SuiteReportOptions {
 // Reads DIR/summary.csv and every run's files, writes DIR/index.html atomically and returns its
 // path. When gnuplot cannot be run (or fails) appends one warning to *warnings (may be null) and
 // writes the page with the tables and replays but without figures: never a failure for that.
+// Trajectory rows whose coordinates are `nan` (a diverged run) are left out with a warning.
 // Throws InputError (file, line, column or key) for a missing or malformed CSV, and
 // std::invalid_argument for invalid options.
 std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& options,

@@ -393,11 +393,15 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
       static_cast<int>(t->Integer("v_m_average_steps", w.v_m_average_steps, 1, 100));
   w.d_obs_max = t->Double("d_obs_max", w.d_obs_max);
   w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
-  w.clearance_knee = t->Double("clearance_knee_deg", w.clearance_knee / kDeg) * kDeg;
-  w.clearance_hip = t->Double("clearance_hip_deg", w.clearance_hip / kDeg) * kDeg;
-  w.clearance_lead = t->Double("clearance_lead", w.clearance_lead);
-  w.clearance_trail = t->Double("clearance_trail", w.clearance_trail);
-  w.clearance_fade = t->Double("clearance_fade", w.clearance_fade);
+  w.lift_clearance = t->Double("lift_clearance", w.lift_clearance);
+  w.lift_d_obs = t->Double("lift_d_obs", w.lift_d_obs);
+  w.lift_lead = t->Double("lift_lead", w.lift_lead);
+  w.lift_trail = t->Double("lift_trail", w.lift_trail);
+  w.lift_ramp = t->Double("lift_ramp", w.lift_ramp);
+  w.lift_release = t->Double("lift_release", w.lift_release);
+  w.lift_feedback = t->Bool("lift_feedback", w.lift_feedback);
+  w.thigh_length = s->model.thigh_length;
+  w.shin_length = s->model.shin_length;
   s->baselines = t->Strings("baselines", {});
   for (size_t i = 0; i < s->baselines.size(); ++i) {
     const std::string& b = s->baselines[i];
@@ -484,7 +488,7 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name) {
   ReadFall(root.Table("fall"), &s.options.fall);
   s.pushes = ReadPushes(&root);
   s.criteria = ReadCriteria(root.Table("criteria"));
-  if (root.Has("velocity")) s.velocity = ReadVelocity(root.Table("velocity"));
+  if (root.Has("velocity")) s.velocity = ReadVelocity(root.WholeTable("velocity"));
   TomlReader noise = root.Table("noise");
   s.walker.v_m_noise = noise.Double("v_m_std", 0.0);
   s.walker.d_obs_noise = noise.Double("d_obs_std", 0.0);
@@ -494,6 +498,11 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name) {
   s.walker.seed = s.seed;
   TomlReader controller = root.Table("controller");
   const std::string type = controller.String("type", "passive");
+  if (type != "passive" && type != "pd_hold" && type != "pragmatic" && type != "fuzzy_cmac") {
+    controller.Fail("type", "unknown controller \"" + type +
+                                "\" (expected \"passive\", \"pd_hold\", \"pragmatic\" or "
+                                "\"fuzzy_cmac\")");
+  }
   if (type == "pragmatic" || type == "fuzzy_cmac") {
     if (type == "pragmatic") {
       ReadPragmatic(&controller, &s);
@@ -525,6 +534,9 @@ std::unique_ptr<Controller> MakeController(const Scenario& scenario) {
       return std::make_unique<PdHoldController>(scenario.pd_hold);
     case ControllerKind::kPragmatic:
       return std::make_unique<PragmaticController>(scenario.walking.rules, 0);
+    case ControllerKind::kFuzzyCmac:
+      throw std::invalid_argument(
+          "fuzzy_cmac scenarios need their gait pattern: run them with RunScenario (run.h)");
     case ControllerKind::kPassive:
       break;
   }

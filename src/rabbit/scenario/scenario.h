@@ -89,6 +89,8 @@ ModelParams ReadModelParams(TomlReader* table);
 // Reads a model file: a TOML file with a [model] table.
 ModelParams LoadModelFile(const std::string& path);
 
+// The controller of a passive, pd_hold or pragmatic scenario (throws std::invalid_argument for
+// fuzzy_cmac, whose walker needs its gait pattern: see RunScenario in run.h).
 std::unique_ptr<Controller> MakeController(const Scenario& scenario);
 
 // Names that become file or folder names: letters, digits, '.', '_', '-'; no "..".

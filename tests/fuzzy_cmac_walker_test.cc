@@ -1,0 +1,231 @@
+// The closed-loop walker (eqs. 19-24): velocity profiles at hand-computed points; the PD laws equal
+// a hand computation on a gait pattern of constant CMACs; the velocity law on a scripted contact
+// sequence (step lengths and times known); perception of obstacles; seeded noise; the clearance
+// reflex's activation.
+#include "rabbit/control/fuzzy_cmac_walker.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "rabbit/learn/ts_fis.h"
+
+namespace rabbit {
+namespace {
+
+constexpr double kTolerance = 1e-12;
+const std::vector<double> kVelocities = {0.4, 0.5, 0.6, 0.7, 0.8};
+
+// A gait pattern whose gait k outputs the constants c_k = (0.1 k, -0.05 k, 0.5 k, -0.2 k) for any
+// e: CMAC weights all c / layers.
+FuzzyCmac ConstantPattern() {
+  CmacOptions o;
+  o.x_min = -1.0;
+  o.x_max = 1.0;
+  std::vector<GaitCmacs> networks;
+  for (int k = 1; k <= 5; ++k) {
+    GaitCmacs gait;
+    const double c[4] = {0.1 * k, -0.05 * k, 0.5 * k, -0.2 * k};
+    for (double value : c) {
+      Cmac cmac(o);
+      for (double& w : *cmac.mutable_weights()) w = value / o.layers;
+      gait.push_back(cmac);
+    }
+    networks.push_back(gait);
+  }
+  FuzzyCmac pattern(DefaultGaitPattern(kVelocities), networks);
+  pattern.SetTrunkPitches({0.01, 0.02, 0.03, 0.04, 0.05});
+  return pattern;
+}
+
+Observation Standing(double t, bool foot0, bool foot1, double x0, double x1) {
+  Observation obs;
+  obs.t = t;
+  obs.q << 0.0, 0.85, 0.05, 0.2, -0.1, -0.15, -0.3;
+  obs.qd << 0.6, 0.0, 0.1, -0.5, 0.3, 0.8, -0.4;
+  obs.foot_contact = {foot0, foot1};
+  obs.foot_pos = {Vec2(x0, 0.0), Vec2(x1, 0.0)};
+  return obs;
+}
+
+TEST(VelocityProfileTest, ConstantRampAndSteps) {
+  VelocityProfile v;
+  v.points = {{0.0, 0.4}, {10.0, 0.8}, {20.0, 1.0}};
+  v.kind = VelocityProfile::Kind::kConstant;
+  EXPECT_DOUBLE_EQ(v.At(15.0), 0.4);
+  v.kind = VelocityProfile::Kind::kRamp;
+  EXPECT_DOUBLE_EQ(v.At(-1.0), 0.4);
+  EXPECT_NEAR(v.At(5.0), 0.6, kTolerance);
+  EXPECT_NEAR(v.At(15.0), 0.9, kTolerance);
+  EXPECT_DOUBLE_EQ(v.At(30.0), 1.0);
+  v.kind = VelocityProfile::Kind::kSteps;
+  EXPECT_DOUBLE_EQ(v.At(9.999), 0.4);
+  EXPECT_DOUBLE_EQ(v.At(10.0), 0.8);
+  EXPECT_DOUBLE_EQ(v.At(25.0), 1.0);
+  std::string error;
+  EXPECT_TRUE(v.IsValid(&error)) << error;
+  VelocityProfile empty;
+  empty.points.clear();
+  EXPECT_FALSE(empty.IsValid(&error));
+  EXPECT_NE(error.find("no points"), std::string::npos);
+  VelocityProfile backwards = v;
+  backwards.points = {{5.0, 0.5}, {1.0, 0.6}};
+  EXPECT_FALSE(backwards.IsValid(&error));
+  VelocityProfile nan = v;
+  nan.points = {{0.0, std::nan("")}};
+  EXPECT_FALSE(nan.IsValid(&error));
+  VelocityProfile negative = v;
+  negative.points = {{0.0, -0.2}};
+  EXPECT_FALSE(negative.IsValid(&error));
+}
+
+TEST(FuzzyCmacWalkerTest, PdLawsOfEquations21To24) {
+  WalkerParams p;
+  p.q0_d_initial = 0.07;
+  p.v_m_initial = 0.6;  // the 0.6 m/s gait alone (k = 3) before any step
+  VelocityProfile v;
+  for (bool thigh : {true, false}) {
+    p.thigh_frame = thigh;
+    FuzzyCmacWalker walker(p, ConstantPattern(), v, 0);
+    const Observation obs = Standing(0.0, true, false, 0.0, -0.2);
+    const Vec4 tau = walker.Compute(obs);
+    const Vec7& q = obs.q;
+    const Vec7& qd = obs.qd;
+    // Gait 3: (0.3, -0.15, 1.5, -0.6); in the thigh frame its hip output is 0.3 - 0.03 + q0.
+    const double hip_ref = thigh ? 0.3 - 0.03 + q[kQ0] : 0.3;
+    const double hip_rate_ref = thigh ? 1.5 + qd[kQ0] : 1.5;
+    EXPECT_NEAR(tau[2], p.hip_kp * (hip_ref - q[kQ21]) + p.hip_kd * (hip_rate_ref - qd[kQ21]),
+                1e-9);
+    EXPECT_NEAR(tau[3], p.knee_kp * (-0.15 - q[kQ22]) + p.knee_kd * (-0.6 - qd[kQ22]), 1e-9);
+    EXPECT_NEAR(tau[1], -p.stance_knee_kp * q[kQ12] - p.stance_knee_kd * qd[kQ12], 1e-9);
+    EXPECT_NEAR(tau[0], p.trunk_kp * (0.07 - q[kQ0]) - p.trunk_kd * qd[kQ0], 1e-9);
+  }
+}
+
+TEST(FuzzyCmacWalkerTest, VelocityControlOfEquations19And20) {
+  // Leg 1 (index 1) lifts off at t = 0.1 and lands at 0.6 (0.30 m ahead): V_M = 0.6 m/s. Leg 0
+  // lifts off at 0.7 and lands at 1.1 (0.36 m ahead): V_M = 0.9. With v_m_average_steps = 1:
+  //   after step 1: q0_d = 0.07 + K_P (0.8 - 0.6)
+  //   after step 2: q0_d += K_P (0.8 - 0.9) + K_V ((0.8 - 0.9) - (0.8 - 0.6)) / 0.4
+  WalkerParams p;
+  p.k_p = 0.1;
+  p.k_v = 0.02;
+  p.q0_d_initial = 0.07;
+  p.v_m_average_steps = 1;
+  p.thigh_frame = false;
+  VelocityProfile v;
+  v.points = {{0.0, 0.8}};
+  FuzzyCmacWalker walker(p, ConstantPattern(), v, 0);
+  const double dt = 1e-3;
+  for (int k = 0; k <= 1200; ++k) {
+    const double t = k * dt;
+    const bool air1 = t >= 0.1 - 1e-9 && t < 0.6 - 1e-9;
+    const bool air0 = t >= 0.7 - 1e-9 && t < 1.1 - 1e-9;
+    const double x1 = t < 0.6 - 1e-9 ? -0.1 : 0.2;
+    const double x0 = t < 1.1 - 1e-9 ? -0.1 : 0.56;
+    walker.Compute(Standing(t, !air0, !air1, x0, x1));
+  }
+  ASSERT_EQ(walker.steps().size(), 2u);
+  const WalkerStep& s1 = walker.steps()[0];
+  const WalkerStep& s2 = walker.steps()[1];
+  EXPECT_NEAR(s1.step.v_m, 0.6, 1e-9);
+  EXPECT_NEAR(s2.step.v_m, 0.9, 1e-9);
+  const double q1 = 0.07 + 0.1 * (0.8 - 0.6);
+  EXPECT_NEAR(s1.q0_d, q1, 1e-9);
+  const double q2 = q1 + 0.1 * (0.8 - 0.9) + 0.02 * ((0.8 - 0.9) - (0.8 - 0.6)) / 0.4;
+  EXPECT_NEAR(s2.q0_d, q2, 1e-9);
+  EXPECT_NEAR(walker.q0_d(), q2, 1e-9);
+  // The fuzzy system saw V_M = 0.9 at the second touchdown: only the fastest gait.
+  EXPECT_NEAR(s2.weights[4], 1.0, 1e-9);
+}
+
+TEST(FuzzyCmacWalkerTest, PitchIsClampedAndStrideAveraged) {
+  WalkerParams p;
+  p.k_p = 5.0;
+  p.q0_d_max = 0.2;
+  p.q0_d_initial = 0.07;
+  p.v_m_average_steps = 2;
+  p.thigh_frame = false;
+  VelocityProfile v;
+  v.points = {{0.0, 2.0}};
+  FuzzyCmacWalker walker(p, ConstantPattern(), v, 0);
+  for (int k = 0; k <= 1200; ++k) {
+    const double t = k * 1e-3;
+    const bool air1 = t >= 0.1 - 1e-9 && t < 0.6 - 1e-9;
+    const bool air0 = t >= 0.7 - 1e-9 && t < 1.1 - 1e-9;
+    walker.Compute(Standing(t, !air0, !air1, t < 1.1 - 1e-9 ? -0.1 : 0.56,
+                            t < 0.6 - 1e-9 ? -0.1 : 0.2));
+  }
+  ASSERT_EQ(walker.steps().size(), 2u);
+  EXPECT_DOUBLE_EQ(walker.q0_d(), 0.2);
+  EXPECT_NEAR(walker.steps()[1].v_m_used, 0.75, 1e-9);  // mean of 0.6 and 0.9
+}
+
+TEST(FuzzyCmacWalkerTest, ObstacleDistanceSaturates) {
+  Terrain terrain;
+  terrain.obstacles = {{1.0, 0.2, 0.05}, {3.0, 0.2, 0.05}};
+  EXPECT_DOUBLE_EQ(ObstacleDistance(terrain, 0.7, 1.0), 0.3);
+  EXPECT_DOUBLE_EQ(ObstacleDistance(terrain, 1.1, 1.0), 1.0);  // 1.9 m to the next: saturated
+  EXPECT_DOUBLE_EQ(ObstacleDistance(terrain, 2.5, 1.0), 0.5);
+  EXPECT_DOUBLE_EQ(ObstacleDistance(terrain, 3.5, 1.0), 1.0);  // none ahead
+}
+
+TEST(FuzzyCmacWalkerTest, NoiseIsSeededAndZeroNoiseChangesNothing) {
+  auto run = [](double noise, std::uint64_t seed) {
+    WalkerParams p;
+    p.v_m_noise = noise;
+    p.d_obs_noise = noise;
+    p.seed = seed;
+    p.thigh_frame = false;
+    VelocityProfile v;
+    FuzzyCmacWalker walker(p, ConstantPattern(), v, 0);
+    Terrain terrain;
+    terrain.obstacles = {{0.5, 0.2, 0.05}};
+    for (int k = 0; k <= 1200; ++k) {
+      const double t = k * 1e-3;
+      const bool air1 = t >= 0.1 - 1e-9 && t < 0.6 - 1e-9;
+      const bool air0 = t >= 0.7 - 1e-9 && t < 1.1 - 1e-9;
+      Observation obs = Standing(t, !air0, !air1, t < 1.1 - 1e-9 ? -0.1 : 0.56,
+                                 t < 0.6 - 1e-9 ? -0.1 : 0.2);
+      obs.terrain = &terrain;
+      walker.Compute(obs);
+    }
+    std::vector<double> seen;
+    for (const WalkerStep& s : walker.steps()) {
+      seen.push_back(s.v_m_used);
+      seen.push_back(s.d_obs);
+    }
+    return seen;
+  };
+  const std::vector<double> clean = run(0.0, 1);
+  ASSERT_EQ(clean.size(), 4u);
+  EXPECT_NEAR(clean[1], 0.3, 1e-12);  // foot at 0.2, obstacle at 0.5
+  EXPECT_EQ(run(0.0, 7), clean);
+  EXPECT_EQ(run(0.05, 3), run(0.05, 3));
+  EXPECT_NE(run(0.05, 3), run(0.05, 4));
+  EXPECT_NE(run(0.05, 3), clean);
+}
+
+TEST(FuzzyCmacWalkerTest, InvalidParametersAreRefused) {
+  WalkerParams p;
+  std::string error;
+  EXPECT_TRUE(p.IsValid(&error)) << error;
+  WalkerParams bad = p;
+  bad.hip_kp = -1.0;
+  EXPECT_FALSE(bad.IsValid(&error));
+  bad = p;
+  bad.q0_d_min = 0.3;
+  bad.q0_d_max = 0.1;
+  EXPECT_FALSE(bad.IsValid(&error));
+  bad = p;
+  bad.k_p = std::nan("");
+  EXPECT_FALSE(bad.IsValid(&error));
+  // The thigh frame needs the gaits' trunk pitches.
+  CmacOptions o;
+  std::vector<GaitCmacs> networks(5, GaitCmacs(4, Cmac(o)));
+  FuzzyCmac without(DefaultGaitPattern(kVelocities), networks);
+  EXPECT_THROW(FuzzyCmacWalker(p, without, VelocityProfile{}, 0), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace rabbit

@@ -1,0 +1,196 @@
+// Scenario suites: [defaults] under every scenario, errors that name the line where the bad value
+// stands (in the scenario or in the defaults), randomised families that expand deterministically,
+// and the bad inputs of issue 5 (unknown controller, negative obstacle height, a velocity profile
+// with no points, an unknown key), each an InputError with file, line and key.
+#include "rabbit/scenario/suite.h"
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <unistd.h>
+
+#include "rabbit/io/error.h"
+
+namespace rabbit {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kRoot = RABBIT_SOURCE_DIR;
+
+class SuiteTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rabbit_suite_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Write(const std::string& text) {
+    const fs::path path = dir_ / "suite.toml";
+    std::ofstream(path) << text;
+    return path.string();
+  }
+  void ExpectError(const std::string& text, int line, const std::string& key,
+                   const std::string& fragment) {
+    const std::string path = Write(text);
+    try {
+      LoadSuite(path);
+      ADD_FAILURE() << "no error for:\n" << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), path);
+      if (line >= 0) {
+        EXPECT_EQ(e.line(), line) << e.what();
+      }
+      EXPECT_EQ(e.key(), key) << e.what();
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+  // A walker suite on the shipped gaits, with `extra` appended.
+  std::string Walker(const std::string& extra) {
+    return "[suite]\nname = \"t\"\n[defaults.simulation]\nduration = 2.0\n"  // lines 1-4
+           "[defaults.velocity]\nvalue = 0.6\n"                             // lines 5-6
+           "[defaults.controller]\ntype = \"fuzzy_cmac\"\n"                  // lines 7-8
+           "fll = \"" + kRoot + "/gaits/gait_pattern.fll\"\n"                 // line 9
+           "networks = \"" + kRoot + "/gaits/networks\"\n"                    // line 10
+           "gaits = \"" + kRoot + "/gaits/reference\"\n" +                    // line 11
+           extra;
+  }
+  fs::path dir_;
+};
+
+TEST_F(SuiteTest, ShippedPaperSuiteLoads) {
+  const Suite suite = LoadSuite(kRoot + "/scenarios/paper.toml");
+  EXPECT_EQ(suite.name, "paper");
+  ASSERT_EQ(suite.scenarios.size(), 15u);  // (a), (b), (c) and 12 obstacles anywhere
+  EXPECT_EQ(suite.scenarios[0].name, "ramp");
+  EXPECT_EQ(suite.scenarios[0].velocity.kind, VelocityProfile::Kind::kSteps);
+  EXPECT_EQ(suite.scenarios[0].start_gait, "vm_0.40");  // nearest V_d(0) = 0.4
+  EXPECT_EQ(suite.scenarios[1].start_gait, "vm_0.60");
+  ASSERT_EQ(suite.scenarios[2].terrain.obstacles.size(), 1u);
+  EXPECT_DOUBLE_EQ(suite.scenarios[2].terrain.obstacles[0].height, 0.05);
+  for (size_t i = 0; i < suite.scenarios.size(); ++i) {
+    const Scenario& s = suite.scenarios[i];
+    EXPECT_EQ(s.controller, ControllerKind::kFuzzyCmac);
+    EXPECT_EQ(s.baselines.size(), i < 3 ? 2u : 0u);
+    EXPECT_EQ(s.required, i < 3);
+    EXPECT_EQ(s.expected_outcome, "completed");
+  }
+}
+
+TEST_F(SuiteTest, DefaultsApplyAndScenariosOverrideThem) {
+  const Suite suite = LoadSuite(Write(Walker(R"(k_p = 0.3
+[[scenario]]
+name = "a"
+[[scenario]]
+name = "b"
+[scenario.controller]
+k_p = 0.1
+[scenario.simulation]
+distance = 3.0
+)")));
+  ASSERT_EQ(suite.scenarios.size(), 2u);
+  EXPECT_DOUBLE_EQ(suite.scenarios[0].walker.k_p, 0.3);
+  EXPECT_DOUBLE_EQ(suite.scenarios[1].walker.k_p, 0.1);
+  EXPECT_DOUBLE_EQ(suite.scenarios[0].options.duration, 2.0);
+  EXPECT_DOUBLE_EQ(suite.scenarios[1].options.stop_distance, 3.0);
+  // The rest of [defaults.controller] still applies under b's own [scenario.controller].
+  EXPECT_EQ(suite.scenarios[1].controller, ControllerKind::kFuzzyCmac);
+}
+
+TEST_F(SuiteTest, ErrorsNameTheLineInTheScenarioOrInTheDefaults) {
+  // In the scenario's own table (line 14).
+  ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.controller]\nhip_kq = 3\n"), 15,
+              "scenario[1].controller.hip_kq", "unknown key");
+  // In the defaults (line 12), reported for the scenario that reads it.
+  ExpectError(Walker("k_vv = 0.1\n[[scenario]]\nname = \"a\"\n"), 12,
+              "scenario[1].controller.k_vv", "unknown key");
+}
+
+TEST_F(SuiteTest, BadInputOfTheIssue) {
+  ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.controller]\ntype = \"fuzzy\"\n"), 15,
+              "scenario[1].controller.type", "unknown controller \"fuzzy\"");
+  ExpectError(Walker("[[scenario]]\nname = \"a\"\n[[scenario.terrain.obstacles]]\nx_start = 3.0\n"
+                     "length = 0.2\nheight = -0.05\n"),
+              17, "scenario[1].terrain.obstacles[1].height", "must be > 0");
+  ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.velocity]\nprofile = \"ramp\"\n"
+                     "points = []\n"),
+              -1, "scenario[1].velocity.points", "no points");
+  ExpectError(Walker("[[scenario]]\nname = \"a\"\nspeed = 3\n"), 14, "scenario[1].speed",
+              "unknown key");
+  ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.velocity]\nprofile = \"ramp\"\n"
+                     "points = [[0, 0.5], [0, 0.6]]\n"),
+              -1, "scenario[1].velocity.points", "times must increase");
+  ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.controller]\nbaselines = [\"x\"]\n"),
+              15, "scenario[1].controller.baselines", "unknown baseline");
+  ExpectError(Walker("[[scenario]]\nname = \"a\"\n[[scenario]]\nname = \"a\"\n"), 0, "a",
+              "two scenarios named");
+  ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.controller]\nstart_gait = \"vm_9\"\n"),
+              15, "scenario[1].controller.start_gait", "no gait");
+  ExpectError(Walker("[[scenario]]\nname = \"a\"\n[[scenario.push]]\nstart = 1.0\nforce_x = nan\n"),
+              16, "scenario[1].push[1].force_x", "finite");
+  ExpectError("[suite]\nname = \"t\"\n", 1, "", "no [[scenario]]");
+}
+
+TEST_F(SuiteTest, FamiliesExpandDeterministically) {
+  const std::string text = Walker(R"([[family]]
+name = "obst"
+count = 6
+seed = 42
+[family.scenario]
+[[family.scenario.terrain.obstacles]]
+x_start = 3.0
+length = 0.2
+height = 0.05
+[family.scenario.velocity]
+value = 0.6
+[family.vary]
+"terrain.obstacles.1.x_start" = [2.0, 2.5]
+"velocity.value" = [0.5, 0.7]
+)");
+  const Suite a = LoadSuite(Write(text));
+  const Suite b = LoadSuite(Write(text));
+  ASSERT_EQ(a.scenarios.size(), 6u);
+  std::set<double> positions;
+  for (size_t i = 0; i < 6; ++i) {
+    const Scenario& s = a.scenarios[i];
+    char name[16];
+    std::snprintf(name, sizeof name, "obst-%03zu", i);
+    EXPECT_EQ(s.name, name);
+    const double x = s.terrain.obstacles.at(0).x_start;
+    EXPECT_GE(x, 2.0);
+    EXPECT_LT(x, 2.5);
+    EXPECT_DOUBLE_EQ(x, FamilyDraw(42, static_cast<int>(i), 0, 2.0, 2.5));
+    EXPECT_DOUBLE_EQ(s.velocity.At(0.0), FamilyDraw(42, static_cast<int>(i), 1, 0.5, 0.7));
+    EXPECT_DOUBLE_EQ(s.terrain.obstacles[0].height, 0.05);  // not varied: the template's
+    EXPECT_DOUBLE_EQ(x, b.scenarios[i].terrain.obstacles[0].x_start);
+    EXPECT_EQ(s.seed, b.scenarios[i].seed);
+    positions.insert(x);
+  }
+  EXPECT_EQ(positions.size(), 6u);
+  EXPECT_NE(a.scenarios[0].seed, a.scenarios[1].seed);
+}
+
+TEST_F(SuiteTest, FamilyErrors) {
+  const std::string head = Walker("[[family]]\nname = \"f\"\ncount = 2\n[family.vary]\n");
+  ExpectError(head + "\"terrain.slope\" = [0, 1]\n", 16, "family[1].vary.terrain.slope",
+              "names no value");
+  ExpectError(head + "\"velocity.value\" = [0.7, 0.5]\n", 16, "family[1].vary.velocity.value",
+              "low <= high");
+  ExpectError(Walker("[[family]]\nname = \"f\"\ncount = 0\n"), 14, "family[1].count",
+              "integer in [1, 10000]");
+}
+
+TEST_F(SuiteTest, AScenarioFileIsASuiteOfOne) {
+  const Suite suite = LoadSuite(kRoot + "/scenarios/standing_pd_hold.toml");
+  ASSERT_EQ(suite.scenarios.size(), 1u);
+  EXPECT_EQ(suite.name, "standing_pd_hold");
+  EXPECT_FALSE(IsSuiteFile(kRoot + "/scenarios/standing_pd_hold.toml"));
+  EXPECT_TRUE(IsSuiteFile(kRoot + "/scenarios/paper.toml"));
+}
+
+}  // namespace
+}  // namespace rabbit
