@@ -81,6 +81,7 @@ TEST(VelocityProfileTest, ConstantRampAndSteps) {
 
 TEST(FuzzyCmacWalkerTest, PdLawsOfEquations21To24) {
   WalkerParams p;
+  p.warmup_steps = 0;  // the walker's own laws from t = 0
   p.q0_d_initial = 0.07;
   p.v_m_initial = 0.6;  // the 0.6 m/s gait alone (k = 3) before any step
   VelocityProfile v;
@@ -108,6 +109,7 @@ TEST(FuzzyCmacWalkerTest, VelocityControlOfEquations19And20) {
   //   after step 1: q0_d = 0.07 + K_P (0.8 - 0.6)
   //   after step 2: q0_d += K_P (0.8 - 0.9) + K_V ((0.8 - 0.9) - (0.8 - 0.6)) / 0.4
   WalkerParams p;
+  p.warmup_steps = 0;
   p.k_p = 0.1;
   p.k_v = 0.02;
   p.q0_d_initial = 0.07;
@@ -141,6 +143,7 @@ TEST(FuzzyCmacWalkerTest, VelocityControlOfEquations19And20) {
 
 TEST(FuzzyCmacWalkerTest, PitchIsClampedAndStrideAveraged) {
   WalkerParams p;
+  p.warmup_steps = 0;
   p.k_p = 5.0;
   p.q0_d_max = 0.2;
   p.q0_d_initial = 0.07;
@@ -173,6 +176,7 @@ TEST(FuzzyCmacWalkerTest, ObstacleDistanceSaturates) {
 TEST(FuzzyCmacWalkerTest, NoiseIsSeededAndZeroNoiseChangesNothing) {
   auto run = [](double noise, std::uint64_t seed) {
     WalkerParams p;
+    p.warmup_steps = 0;
     p.v_m_noise = noise;
     p.d_obs_noise = noise;
     p.seed = seed;
