@@ -215,3 +215,107 @@ TEST_F(CliTest, GaitsBadInputExitsTwo) {
 }
 
 }  // namespace
+
+namespace {
+
+// A small walker suite on the shipped gaits: two short scenarios, one with a baseline; `extra`
+// lands in the second scenario's own table.
+std::string SmallSuite(const std::string& extra) {
+  const std::string root = RABBIT_SOURCE_DIR;
+  return "[suite]\nname = \"small\"\n[defaults]\nexpect_outcome = \"completed\"\n"
+         "[defaults.simulation]\nduration = 6.0\nrecord_every = 20\n"
+         "[defaults.velocity]\nvalue = 0.6\n"
+         "[defaults.controller]\ntype = \"fuzzy_cmac\"\nfll = \"" + root +
+         "/gaits/gait_pattern.fll\"\nnetworks = \"" + root + "/gaits/networks\"\ngaits = \"" +
+         root + "/gaits/reference\"\n"
+         "[[scenario]]\nname = \"walk\"\n[scenario.controller]\nbaselines = [\"nearest_gait\"]\n"
+         "[[scenario]]\nname = \"second\"\n" + extra;
+}
+
+std::string ReadFile(const fs::path& path) {
+  std::ifstream in(path);
+  std::stringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// summary.csv without its last two columns (wall_s, real_time_factor).
+std::string WithoutWallTime(const std::string& csv) {
+  std::stringstream in(csv), out;
+  std::string line;
+  while (std::getline(in, line)) {
+    for (int k = 0; k < 2; ++k) line = line.substr(0, line.rfind(','));
+    out << line << "\n";
+  }
+  return out.str();
+}
+
+}  // namespace
+
+TEST_F(CliTest, RunWritesTheReportAndIsTheSameOnOneAndTwoThreads) {
+  const std::string suite = Write("small.toml", SmallSuite(""));
+  const fs::path one = dir_ / "one", two = dir_ / "two";
+  const CliRun a = RunCli("run " + suite + " --jobs 1 --no-html -q --out " + one.string());
+  ASSERT_EQ(a.code, 0) << a.output;
+  const CliRun b = RunCli("run " + suite + " --jobs 2 --out " + two.string());
+  ASSERT_EQ(b.code, 0) << b.output;
+  for (const char* file : {"summary.csv", "walk/steps.csv", "walk+nearest_gait/trajectory.csv",
+                           "second/meta.csv", "second/tracking.csv", "second/terrain.csv"}) {
+    EXPECT_TRUE(fs::exists(one / file)) << file;
+  }
+  EXPECT_TRUE(fs::exists(two / "index.html"));
+  const std::string summary = ReadFile(one / "summary.csv");
+  EXPECT_EQ(WithoutWallTime(summary), WithoutWallTime(ReadFile(two / "summary.csv")));
+  EXPECT_EQ(ReadFile(one / "walk" / "steps.csv"), ReadFile(two / "walk" / "steps.csv"));
+  EXPECT_NE(summary.find("small,walk,nearest_gait,walk+nearest_gait"), std::string::npos);
+  EXPECT_NE(b.output.find("3 runs"), std::string::npos) << b.output;
+  // No staging folder is left beside the reports.
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos);
+  }
+}
+
+TEST_F(CliTest, RunExitsOneWhenARequiredScenarioFailsItsCriteria) {
+  const fs::path out = dir_ / "report";
+  // 6 s cannot give 40 steps; the non-required scenario's failure alone would not count.
+  const std::string failing = Write(
+      "fail.toml", SmallSuite("[scenario.criteria]\nmin_steps = 40\n"));
+  const CliRun r = RunCli("run " + failing + " --no-html --out " + out.string());
+  EXPECT_EQ(r.code, 1) << r.output;
+  EXPECT_NE(r.output.find("steps (at least 40 required)"), std::string::npos) << r.output;
+  EXPECT_TRUE(fs::exists(out / "summary.csv"));  // the report is still written
+  const std::string optional = Write(
+      "optional.toml", SmallSuite("required = false\n[scenario.criteria]\nmin_steps = 40\n"));
+  EXPECT_EQ(RunCli("run " + optional + " --no-html -q --out " + out.string()).code, 0);
+  // --filter: only the matching scenario runs.
+  const CliRun filtered = RunCli("run " + failing + " --filter ^walk$ --no-html --out " + out.string());
+  EXPECT_EQ(filtered.code, 0) << filtered.output;
+  EXPECT_EQ(ReadFile(out / "summary.csv").find("second"), std::string::npos);
+}
+
+TEST_F(CliTest, RunBadInputExitsTwoAndLeavesNoReport) {
+  const fs::path out = dir_ / "report";
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"[scenario.controller]\ntype = \"walker\"\n", "unknown controller"},
+      {"[[scenario.terrain.obstacles]]\nx_start = 3.0\nlength = 0.2\nheight = -0.05\n",
+       "height"},
+      {"[scenario.velocity]\nprofile = \"steps\"\n", "no points"},
+      {"colour = \"red\"\n", "unknown key"},
+  };
+  for (const auto& [extra, fragment] : cases) {
+    const std::string suite = Write("bad.toml", SmallSuite(extra));
+    const CliRun r = RunCli("run " + suite + " --out " + out.string());
+    EXPECT_EQ(r.code, 2) << extra << r.output;
+    EXPECT_NE(r.output.find(fragment), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("bad.toml:"), std::string::npos) << r.output;  // file and line
+    EXPECT_FALSE(fs::exists(out)) << extra;
+    for (const auto& entry : fs::directory_iterator(dir_)) {
+      EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos);
+    }
+  }
+  EXPECT_EQ(RunCli("run " + dir_.string() + "/missing.toml --out " + out.string()).code, 2);
+  EXPECT_EQ(RunCli("run " + Write("ok.toml", SmallSuite("")) + " --filter '(' --out " +
+                   out.string()).code,
+            2);
+  EXPECT_FALSE(fs::exists(out));
+}

@@ -324,6 +324,74 @@ INSTANTIATE_TEST_SUITE_P(BothIntegrators, SimulatorTest,
                            return std::string(IntegratorName(param.param));
                          });
 
+TEST_P(SimulatorTest, TrunkPushDeliversItsImpulse) {
+  // No gravity, no ground, no torque: the only external force is the push, so the linear momentum
+  // after it is the impulse F T (the push acts on 200 control periods exactly), and the centre of
+  // mass then moves at constant velocity.
+  ModelParams params;
+  params.gravity = 0.0;
+  const Model model(params);
+  SimSetup setup = Setup(model, 0.5);
+  setup.options.contact = false;
+  setup.pushes = {{0.1, 0.2, Vec2(50.0, 20.0), 0.3}};
+  const Vec7 q0 = Stance(model, 0.5);
+  PassiveController passive;
+  const SimResult r = Simulate(setup, q0, Vec7::Zero(), &passive);
+  ASSERT_EQ(r.outcome, Outcome::kCompleted) << r.reason;
+  const SimSample& a = r.samples[400];
+  const SimSample& b = r.samples[500];
+  const Vec2 v = (CenterOfMass(model, b.q) - CenterOfMass(model, a.q)) / (b.t - a.t);
+  const Vec2 impulse = Vec2(50.0, 20.0) * 0.2;
+  const double kTolerance = 1e-6;
+  EXPECT_LT((model.total_mass() * v - impulse).norm(), kTolerance * impulse.norm());
+  // Before the push, nothing moves.
+  EXPECT_LT((CenterOfMass(model, r.samples[99].q) - CenterOfMass(model, q0)).norm(), 1e-12);
+}
+
+TEST_P(SimulatorTest, RunStopsAtItsDistance) {
+  const Model model{ModelParams{}};
+  SimSetup setup = Setup(model, 5.0);
+  setup.options.contact = false;
+  setup.options.fall.enabled = false;
+  setup.options.stop_distance = 0.25;
+  Vec7 qd = Vec7::Zero();
+  qd[kX] = 1.0;  // drifting forward at 1 m/s without gravity
+  ModelParams params;
+  params.gravity = 0.0;
+  const Model free(params);
+  setup.model = &free;
+  PassiveController passive;
+  const SimResult r = Simulate(setup, Stance(free, 0.5), qd, &passive);
+  EXPECT_EQ(r.outcome, Outcome::kCompleted);
+  EXPECT_NEAR(r.t_end, 0.25, 1.5e-3);
+  EXPECT_GE(r.samples.back().q[kX], 0.25);
+  EXPECT_LT(r.samples[r.samples.size() - 2].q[kX], 0.25);
+}
+
+TEST(TrunkPushTest, GeneralizedForceIsTheJacobianTransposeOfTheForce) {
+  // Q = J^T F with J the finite-difference Jacobian of the push point hip + h (sin q0, cos q0).
+  const double h = 0.3;
+  const Vec2 F(40.0, -15.0);
+  Vec7 q;
+  q << 0.3, 0.8, 0.2, 0.1, -0.2, -0.3, -0.1;
+  auto point = [h](const Vec7& x) {
+    return Vec2(x[kX] + h * std::sin(x[kQ0]), x[kY] + h * std::cos(x[kQ0]));
+  };
+  Vec7 expected;
+  const double step = 1e-6;
+  for (int i = 0; i < kNq; ++i) {
+    Vec7 plus = q, minus = q;
+    plus[i] += step;
+    minus[i] -= step;
+    expected[i] = F.dot((point(plus) - point(minus)) / (2 * step));
+  }
+  const double kTolerance = 1e-8;
+  EXPECT_LT((TrunkForceToGeneralized(q, F, h) - expected).cwiseAbs().maxCoeff(), kTolerance);
+  std::string error;
+  TrunkPush bad{0.0, -1.0, F, h};
+  EXPECT_FALSE(bad.IsValid(&error));
+}
+
 TEST(SimulatorOptionsTest, InvalidOptionsThrow) {
   const Model model{ModelParams{}};
   SimSetup setup;

@@ -97,7 +97,11 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& jobs,
     for (const std::string& r : rows) out << r << "\n";
   });
   std::vector<std::string> warnings;
-  if (args.html) WriteSuiteReport(staging.string(), args.report, &warnings);
+  if (args.html) {
+    SuiteReportOptions report = args.report;
+    report.source_label = out_dir.string();
+    WriteSuiteReport(staging.string(), report, &warnings);
+  }
   for (const std::string& w : warnings) std::cerr << "rabbit run: warning: " << w << "\n";
   if (fs::exists(out_dir)) fs::remove_all(out_dir);
   fs::create_directories(out_dir.parent_path().empty() ? "." : out_dir.parent_path());

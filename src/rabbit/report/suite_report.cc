@@ -1238,7 +1238,8 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
   html << "<p class=\"note\">" << rows.size() << (rows.size() == 1 ? " run" : " runs") << " in "
        << groups.size() << (groups.size() == 1 ? " scenario" : " scenarios") << ", <b>" << passed
        << " passed</b>, <b>" << rows.size() - static_cast<size_t>(passed)
-       << " failed</b>. Rebuilt from the CSV files in <code>" << HtmlEscape(dir)
+       << " failed</b>. Rebuilt from the CSV files in <code>"
+       << HtmlEscape(options.source_label.empty() ? dir : options.source_label)
        << "</code> by <code>rabbit report</code> (rabbit " << RABBIT_VERSION << ") on " << UtcNow()
        << ". Variants: the Fuzzy-CMAC walker, and as baselines the pragmatic rules at the "
           "nearest reference gait and the Fuzzy-CMAC with its weights rounded to the strongest "

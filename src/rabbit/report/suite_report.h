@@ -32,6 +32,9 @@ struct SuiteReportOptions {
   double stick_window = 3.0;        // s of walking shown per stick diagram (chapter's ~2.8 s)
   double tracking_window = 3.0;     // s of joint tracking shown
   int figure_width = 1000;          // px, width of every figure's SVG canvas
+  // The folder the page names as its source (empty: the folder it is built in). `rabbit run`
+  // builds in a staging folder and names the final one.
+  std::string source_label;
   // Positive finite times, replay_fps 1..240, replay_decimals 1..9, stick_window / stick_every
   // at most 1000 figures, figure_width 300..4000, a non-empty gnuplot without newlines.
   bool IsValid(std::string* error) const;

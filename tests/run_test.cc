@@ -1,0 +1,219 @@
+// Batch runs: the same summary whatever the number of threads; pass criteria on hand-built runs;
+// metrics against independent figures; and the paper suite's claims (issue 5, "Must show"):
+// (a) V_M follows V_d up to 0.8 m/s and L_step rises from about 0.25 to about 0.43 m, (b) flat
+// walking with a nearly constant L_step, (c) the step before the obstacle shortens, the next
+// lengthens and clears it, and walking goes on.
+#include "rabbit/scenario/run.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <map>
+
+#include "rabbit/report/run_files.h"
+#include "rabbit/scenario/batch.h"
+#include "rabbit/scenario/suite.h"
+
+namespace rabbit {
+namespace {
+
+const std::string kRoot = RABBIT_SOURCE_DIR;
+
+// The summary rows of a batch without the wall-time columns.
+std::vector<std::string> DeterministicRows(const Suite& suite, const std::string& filter,
+                                           int threads, std::vector<RunOutput>* runs = nullptr) {
+  const std::vector<BatchJob> jobs = PlanBatch(suite, filter);
+  std::vector<std::string> rows(jobs.size());
+  if (runs != nullptr) runs->resize(jobs.size());
+  RunBatch(jobs, threads, [&](size_t i, RunOutput&& run) {
+    run.wall = 0.0;  // the only non-deterministic figure
+    rows[i] = SummaryRow(suite.name, run);
+    if (runs != nullptr) (*runs)[i] = std::move(run);
+  });
+  return rows;
+}
+
+class PaperSuiteTest : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    suite_ = new Suite(LoadSuite(kRoot + "/scenarios/paper.toml"));
+    runs_ = new std::vector<RunOutput>();
+    rows_ = new std::vector<std::string>(DeterministicRows(*suite_, "^(ramp|flat|obstacle)$", 2, runs_));
+  }
+  static void TearDownTestSuite() {
+    delete suite_;
+    delete runs_;
+    delete rows_;
+  }
+  static const RunOutput& Run(const std::string& name) {
+    for (const RunOutput& r : *runs_) {
+      if (r.run == name) return r;
+    }
+    throw std::runtime_error("no run " + name);
+  }
+  static Suite* suite_;
+  static std::vector<RunOutput>* runs_;
+  static std::vector<std::string>* rows_;
+};
+Suite* PaperSuiteTest::suite_ = nullptr;
+std::vector<RunOutput>* PaperSuiteTest::runs_ = nullptr;
+std::vector<std::string>* PaperSuiteTest::rows_ = nullptr;
+
+TEST_F(PaperSuiteTest, SameSummaryOnOneThread) {
+  EXPECT_EQ(DeterministicRows(*suite_, "^(ramp|flat|obstacle)$", 1), *rows_);
+}
+
+TEST_F(PaperSuiteTest, RampFollowsTheDesiredVelocity) {
+  const RunOutput& r = Run("ramp");
+  EXPECT_TRUE(r.passed) << (r.failures.empty() ? "" : r.failures[0]);
+  EXPECT_EQ(r.sim.outcome, Outcome::kCompleted);
+  // L_step: about 0.25 m at 0.4 m/s (the first steps of the walker) and about 0.43 m from 0.8 m/s.
+  double early = 0.0, late = 0.0;
+  int n_early = 0, n_late = 0;
+  for (const StepRow& s : r.steps) {
+    if (s.step.t_step <= 0.0) continue;
+    if (s.v_d < 0.45 && s.step.t_touchdown > 4.0) {
+      early += s.step.l_step;
+      ++n_early;
+    }
+    if (s.v_d >= 0.8) {
+      late += s.step.l_step;
+      ++n_late;
+    }
+  }
+  ASSERT_GT(n_early, 3);
+  ASSERT_GT(n_late, 10);
+  const double kStepTolerance = 0.03;  // m: "about"
+  EXPECT_NEAR(early / n_early, 0.25, kStepTolerance);
+  EXPECT_NEAR(late / n_late, 0.43, kStepTolerance);
+}
+
+TEST_F(PaperSuiteTest, FlatWalkingHasANearlyConstantStep) {
+  const RunOutput& r = Run("flat");
+  EXPECT_TRUE(r.passed) << (r.failures.empty() ? "" : r.failures[0]);
+  EXPECT_GE(r.metrics.steps, 20);
+  EXPECT_LT(r.metrics.l_step_spread, 0.01);
+}
+
+TEST_F(PaperSuiteTest, ObstacleIsSteppedOverAsInFigure16) {
+  const RunOutput& r = Run("obstacle");
+  EXPECT_TRUE(r.passed) << (r.failures.empty() ? "" : r.failures[0]);
+  const Obstacle& o = suite_->scenarios[2].terrain.obstacles.at(0);
+  // The last landing before the obstacle and the first beyond it.
+  size_t before = 0;
+  while (before + 1 < r.steps.size() && r.steps[before + 1].step.x < o.x_start) ++before;
+  ASSERT_LT(before + 1, r.steps.size());
+  const StepRow& short_step = r.steps[before];
+  const StepRow& long_step = r.steps[before + 1];
+  const double flat = Run("flat").metrics.l_step_mean;
+  EXPECT_LT(short_step.step.l_step, flat - 0.02);  // shortened...
+  EXPECT_LT(o.x_start - short_step.step.x, 0.10);  // ...to land just before the obstacle
+  EXPECT_GT(long_step.step.l_step, flat + 0.03);   // lengthened...
+  EXPECT_GT(long_step.step.x, o.x_end());          // ...to land beyond it
+  int after = 0;
+  for (const StepRow& s : r.steps) after += s.step.x > o.x_end() ? 1 : 0;
+  EXPECT_GE(after, 10);
+  // No foot ever stood on the obstacle.
+  for (const ContactEvent& e : r.sim.events) {
+    if (e.from == ContactMode::kAir && e.to != ContactMode::kAir) {
+      EXPECT_FALSE(e.x >= o.x_start && e.x <= o.x_end() && e.y > 0.02) << "landing at " << e.t;
+    }
+  }
+}
+
+TEST_F(PaperSuiteTest, TheChaptersControlBeatsItsBaselines) {
+  // The pragmatic rules at the start gait do not follow V_d and trip on the obstacle.
+  EXPECT_FALSE(Run("ramp+pragmatic").passed);
+  EXPECT_GT(Run("ramp+pragmatic").metrics.mean_abs_speed_error,
+            2.0 * Run("ramp").metrics.mean_abs_speed_error);
+  EXPECT_EQ(Run("obstacle+pragmatic").sim.outcome, Outcome::kTripped);
+}
+
+TEST(RunMetricsTest, EnergyAndCostOfTransport) {
+  // 10 s of a pragmatic walk: CoT = positive actuator work / (m g distance), and the work equals
+  // the sum over the recorded samples (every period) of max(0, tau qd) dt.
+  Scenario s = LoadScenario(kRoot + "/scenarios/walk_pragmatic_0.60.toml");
+  s.options.duration = 10.0;
+  const RunOutput r = RunScenario(s, "pragmatic", nullptr);
+  double work = 0.0;
+  for (size_t k = 0; k + 1 < r.sim.samples.size(); ++k) {
+    const SimSample& x = r.sim.samples[k];
+    for (int j = 0; j < kNumJoints; ++j) {
+      work += std::max(0.0, x.tau[j] * x.qd[3 + j]) * s.options.control_period;
+    }
+  }
+  const double kTolerance = 1e-9;
+  EXPECT_NEAR(r.metrics.energy, work, kTolerance * work);
+  const Model model(s.model);
+  EXPECT_NEAR(r.metrics.cost_of_transport,
+              work / (model.total_mass() * 9.81 * r.metrics.distance), 1e-12);
+  EXPECT_GT(r.metrics.distance, 4.0);
+  EXPECT_GT(r.metrics.steps, 10);
+}
+
+// A run with hand-made steps for the criteria.
+RunOutput HandRun(const std::vector<std::pair<double, double>>& vd_vm) {
+  RunOutput r;
+  r.metrics.steps = static_cast<int>(vd_vm.size());
+  for (size_t i = 0; i < vd_vm.size(); ++i) {
+    StepRow s;
+    s.step.index = static_cast<int>(i);
+    s.step.t_touchdown = 0.5 * static_cast<double>(i);
+    s.step.t_step = 0.5;
+    s.step.v_m = vd_vm[i].second;
+    s.step.l_step = 0.3;
+    s.step.x = 0.3 * static_cast<double>(i);
+    s.v_d = vd_vm[i].first;
+    r.steps.push_back(s);
+  }
+  return r;
+}
+
+TEST(CriteriaTest, TrackingIsCheckedOnSettledStridesUpToTheLimit) {
+  Scenario s;
+  s.criteria.speed_tolerance = 0.05;
+  s.criteria.settle_steps = 3;
+  s.criteria.track_up_to = 0.8;
+  // V_d 0.5 for 6 steps then 0.9. Step i is settled when steps i-3..i-1 saw its V_d: steps 3-5
+  // (V_d 0.5) and 9 (V_d 0.9 > 0.8: not checked). Strides: (0.50 + 0.52) / 2, (0.52 + 0.48) / 2,
+  // (0.48 + 0.51) / 2, all within 0.05 of 0.5.
+  std::vector<std::pair<double, double>> steps = {{0.5, 0.1}, {0.5, 0.2}, {0.5, 0.5}, {0.5, 0.52},
+                                                  {0.5, 0.48}, {0.5, 0.51}, {0.9, 0.5},  {0.9, 0.5},
+                                                  {0.9, 0.5},  {0.9, 0.5}};
+  RunOutput good = HandRun(steps);
+  EvaluateCriteria(s, &good);
+  EXPECT_TRUE(good.passed) << (good.failures.empty() ? "" : good.failures[0]);
+  steps[4].second = 0.35;  // strides of steps 4 and 5 now 0.435 and 0.43: off by > 0.05
+  RunOutput bad = HandRun(steps);
+  EvaluateCriteria(s, &bad);
+  EXPECT_FALSE(bad.passed);
+  ASSERT_EQ(bad.failures.size(), 1u);
+  EXPECT_NE(bad.failures[0].find("at 2 of 3 settled steps"), std::string::npos) << bad.failures[0];
+  s.criteria.settle_steps = 20;  // nothing is ever settled: that is a failure, not a pass
+  RunOutput none = HandRun(steps);
+  EvaluateCriteria(s, &none);
+  EXPECT_FALSE(none.passed);
+}
+
+TEST(CriteriaTest, StepsSpreadOutcomeAndObstacles) {
+  Scenario s;
+  s.expected_outcome = "completed";
+  s.criteria.min_steps = 5;
+  s.criteria.max_l_step_spread = 0.01;
+  s.criteria.spread_steps = 3;
+  s.criteria.min_steps_after_obstacles = 2;
+  s.terrain.obstacles = {{1.0, 0.2, 0.05}};
+  RunOutput r = HandRun({{0.6, 0.6}, {0.6, 0.6}, {0.6, 0.6}, {0.6, 0.6}, {0.6, 0.6}, {0.6, 0.6}});
+  r.steps[4].step.l_step = 0.32;  // inside the last three: spread 0.02
+  r.sim.outcome = Outcome::kFell;
+  r.metrics = ComputeMetrics(s, Model(s.model), r.sim, r.steps);
+  EvaluateCriteria(s, &r);
+  // Fell, spread 0.02 > 0.01, and only step 5 (x = 1.5) lands beyond the obstacle's 1.2 m end.
+  ASSERT_EQ(r.failures.size(), 3u);
+  EXPECT_NE(r.failures[0].find("outcome fell"), std::string::npos);
+  EXPECT_NE(r.failures[1].find("spread"), std::string::npos);
+  EXPECT_NE(r.failures[2].find("1 steps beyond"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace rabbit
