@@ -1,0 +1,110 @@
+// The closed loop (issue 5): the Fuzzy-CMAC walker against the pragmatic rules on the same
+// scenario, robot and simulator (the walker's cost is the only difference), the controller's cost
+// per control period, the gait pattern in the chapter's frame and in the thigh frame, and the whole
+// default suite on 1 and 2 threads. Run with --benchmark_enable_random_interleaving=true so the
+// pairs alternate (this machine's speed drifts).
+#include <benchmark/benchmark.h>
+
+#include <thread>
+
+#include "rabbit/scenario/batch.h"
+#include "rabbit/scenario/run.h"
+#include "rabbit/scenario/suite.h"
+
+namespace rabbit {
+namespace {
+
+const std::string kSuite = std::string(RABBIT_SOURCE_DIR) + "/scenarios/paper.toml";
+
+const Suite& Paper() {
+  static const Suite suite = LoadSuite(kSuite);
+  return suite;
+}
+
+const Scenario& Named(const std::string& name) {
+  for (const Scenario& s : Paper().scenarios) {
+    if (s.name == name) return s;
+  }
+  throw std::runtime_error("no scenario " + name);
+}
+
+std::shared_ptr<const GaitLibrary> Library() {
+  static const std::shared_ptr<const GaitLibrary> library =
+      LoadGaitLibrary(Paper().scenarios[0].pattern);
+  return library;
+}
+
+// 30 s of flat walking at 0.6 m/s (scenario "flat"), recording nothing.
+void WalkFlat(benchmark::State& state, const char* variant) {
+  Scenario s = Named("flat");
+  s.options.record_every = 0;
+  const std::shared_ptr<const GaitLibrary> library = Library();
+  double simulated = 0.0;
+  long steps = 0;
+  for (auto _ : state) {
+    const RunOutput run = RunScenario(s, variant, library.get());
+    simulated += run.sim.t_end;
+    steps += run.metrics.steps;
+    benchmark::DoNotOptimize(run.metrics.distance);
+  }
+  state.counters["rtf"] = benchmark::Counter(simulated, benchmark::Counter::kIsRate);
+  state.counters["steps"] = static_cast<double>(steps) / static_cast<double>(state.iterations());
+}
+void BM_WalkFlatFuzzyCmac(benchmark::State& state) { WalkFlat(state, "fuzzy_cmac"); }
+void BM_WalkFlatPragmatic(benchmark::State& state) { WalkFlat(state, "pragmatic"); }
+BENCHMARK(BM_WalkFlatFuzzyCmac)->Unit(benchmark::kMillisecond);
+BENCHMARK(BM_WalkFlatPragmatic)->Unit(benchmark::kMillisecond);
+
+// One control period of the walker (gait meter, gait pattern, four PD laws) in mid-swing.
+void BM_WalkerControlPeriod(benchmark::State& state) {
+  const Scenario& s = Named("flat");
+  WalkerParams p = s.walker;
+  p.warmup_steps = 0;
+  p.log_every = 0;
+  FuzzyCmacWalker walker(p, Library()->pattern, s.velocity, 0);
+  Observation obs;
+  obs.q << 0.1, 0.86, 0.15, 0.2, -0.05, -0.1, -0.6;
+  obs.qd << 0.6, 0.0, 0.0, -1.0, 0.0, 2.0, 1.0;
+  obs.foot_contact = {true, false};
+  obs.foot_pos = {Vec2(0.1, 0.0), Vec2(-0.1, 0.05)};
+  Terrain terrain;
+  obs.terrain = &terrain;
+  for (auto _ : state) {
+    obs.t += 1e-3;
+    benchmark::DoNotOptimize(walker.Compute(obs));
+  }
+}
+BENCHMARK(BM_WalkerControlPeriod);
+
+void GaitPatternQuery(benchmark::State& state, bool thigh) {
+  FuzzyCmac pattern = Library()->pattern;
+  pattern.SetContext(0.56, 1.0);  // two gaits blended
+  double e = -0.2;
+  for (auto _ : state) {
+    e = e > 0.3 ? -0.2 : e + 1e-4;
+    benchmark::DoNotOptimize(thigh ? pattern.QueryThigh(e) : pattern.Query(e));
+  }
+}
+void BM_GaitPatternQueryChapterFrame(benchmark::State& state) { GaitPatternQuery(state, false); }
+void BM_GaitPatternQueryThighFrame(benchmark::State& state) { GaitPatternQuery(state, true); }
+BENCHMARK(BM_GaitPatternQueryChapterFrame);
+BENCHMARK(BM_GaitPatternQueryThighFrame);
+
+// The whole default suite (every scenario and baseline, no files written) on N threads.
+void BM_PaperSuite(benchmark::State& state) {
+  const std::vector<BatchJob> jobs = PlanBatch(Paper(), "");
+  double simulated = 0.0;
+  for (auto _ : state) {
+    RunBatch(jobs, static_cast<int>(state.range(0)),
+             [&simulated](size_t, RunOutput&& run) { simulated += run.sim.t_end; });
+  }
+  const double runs = static_cast<double>(jobs.size() * state.iterations());
+  state.counters["runs_per_min"] = benchmark::Counter(60.0 * runs, benchmark::Counter::kIsRate);
+  state.counters["rtf"] = benchmark::Counter(simulated, benchmark::Counter::kIsRate);
+}
+BENCHMARK(BM_PaperSuite)->Arg(1)->Arg(2)->Unit(benchmark::kSecond)->Iterations(1)->UseRealTime();
+
+}  // namespace
+}  // namespace rabbit
+
+BENCHMARK_MAIN();
