@@ -225,11 +225,13 @@ std::string SmallSuite(const std::string& extra) {
   return "[suite]\nname = \"small\"\n[defaults]\nexpect_outcome = \"completed\"\n"
          "[defaults.simulation]\nduration = 6.0\nrecord_every = 20\n"
          "[defaults.velocity]\nvalue = 0.6\n"
-         "[defaults.controller]\ntype = \"fuzzy_cmac\"\nfll = \"" + root +
-         "/gaits/gait_pattern.fll\"\nnetworks = \"" + root + "/gaits/networks\"\ngaits = \"" +
-         root + "/gaits/reference\"\n"
+         "[defaults.controller]\ntype = \"fuzzy_cmac\"\nfll = \"" +
+         root + "/gaits/gait_pattern.fll\"\nnetworks = \"" + root +
+         "/gaits/networks\"\ngaits = \"" + root +
+         "/gaits/reference\"\n"
          "[[scenario]]\nname = \"walk\"\n[scenario.controller]\nbaselines = [\"nearest_gait\"]\n"
-         "[[scenario]]\nname = \"second\"\n" + extra;
+         "[[scenario]]\nname = \"second\"\n" +
+         extra;
 }
 
 std::string ReadFile(const fs::path& path) {
@@ -278,17 +280,18 @@ TEST_F(CliTest, RunWritesTheReportAndIsTheSameOnOneAndTwoThreads) {
 TEST_F(CliTest, RunExitsOneWhenARequiredScenarioFailsItsCriteria) {
   const fs::path out = dir_ / "report";
   // 6 s cannot give 40 steps; the non-required scenario's failure alone would not count.
-  const std::string failing = Write(
-      "fail.toml", SmallSuite("[scenario.criteria]\nmin_steps = 40\n"));
+  const std::string failing =
+      Write("fail.toml", SmallSuite("[scenario.criteria]\nmin_steps = 40\n"));
   const CliRun r = RunCli("run " + failing + " --no-html --out " + out.string());
   EXPECT_EQ(r.code, 1) << r.output;
   EXPECT_NE(r.output.find("steps (at least 40 required)"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(out / "summary.csv"));  // the report is still written
-  const std::string optional = Write(
-      "optional.toml", SmallSuite("required = false\n[scenario.criteria]\nmin_steps = 40\n"));
+  const std::string optional =
+      Write("optional.toml", SmallSuite("required = false\n[scenario.criteria]\nmin_steps = 40\n"));
   EXPECT_EQ(RunCli("run " + optional + " --no-html -q --out " + out.string()).code, 0);
   // --filter: only the matching scenario runs.
-  const CliRun filtered = RunCli("run " + failing + " --filter ^walk$ --no-html --out " + out.string());
+  const CliRun filtered =
+      RunCli("run " + failing + " --filter ^walk$ --no-html --out " + out.string());
   EXPECT_EQ(filtered.code, 0) << filtered.output;
   EXPECT_EQ(ReadFile(out / "summary.csv").find("second"), std::string::npos);
 }
@@ -297,8 +300,7 @@ TEST_F(CliTest, RunBadInputExitsTwoAndLeavesNoReport) {
   const fs::path out = dir_ / "report";
   const std::vector<std::pair<std::string, std::string>> cases = {
       {"[scenario.controller]\ntype = \"walker\"\n", "unknown controller"},
-      {"[[scenario.terrain.obstacles]]\nx_start = 3.0\nlength = 0.2\nheight = -0.05\n",
-       "height"},
+      {"[[scenario.terrain.obstacles]]\nx_start = 3.0\nlength = 0.2\nheight = -0.05\n", "height"},
       {"[scenario.velocity]\nprofile = \"steps\"\n", "no points"},
       {"colour = \"red\"\n", "unknown key"},
   };
@@ -314,8 +316,9 @@ TEST_F(CliTest, RunBadInputExitsTwoAndLeavesNoReport) {
     }
   }
   EXPECT_EQ(RunCli("run " + dir_.string() + "/missing.toml --out " + out.string()).code, 2);
-  EXPECT_EQ(RunCli("run " + Write("ok.toml", SmallSuite("")) + " --filter '(' --out " +
-                   out.string()).code,
-            2);
+  EXPECT_EQ(
+      RunCli("run " + Write("ok.toml", SmallSuite("")) + " --filter '(' --out " + out.string())
+          .code,
+      2);
   EXPECT_FALSE(fs::exists(out));
 }

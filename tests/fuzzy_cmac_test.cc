@@ -94,7 +94,8 @@ TEST(FuzzyCmacTest, ThighFrameShiftsEachGaitByItsTrunkPitch) {
         for (size_t k = 0; k < networks.size(); ++k) {
           const double w = pattern.gait_weights()[k];
           for (int o = 0; o < kGaitOutputs; ++o) {
-            expected[o] += w * (networks[k][o].Query(th + pitches[k]) - (o == 0 ? pitches[k] : 0.0));
+            expected[o] +=
+                w * (networks[k][o].Query(th + pitches[k]) - (o == 0 ? pitches[k] : 0.0));
           }
         }
         EXPECT_LE((pattern.QueryThigh(th) - expected).cwiseAbs().maxCoeff(), kTolerance);

@@ -48,6 +48,21 @@ Observation Standing(double t, bool foot0, bool foot1, double x0, double x1) {
   return obs;
 }
 
+// The scripted contact sequence of the velocity tests: leg 1 (index 1) lifts off at t = 0.1 and
+// lands at 0.6 s, 0.30 m ahead of leg 0 (V_M = 0.6 m/s); leg 0 lifts off at 0.7 s and lands at
+// 1.1 s, 0.36 m ahead (V_M = 0.9 m/s). Feeds 1.2 s of observations at 1 kHz.
+void WalkTwoSteps(FuzzyCmacWalker* walker, const Terrain* terrain = nullptr) {
+  for (int k = 0; k <= 1200; ++k) {
+    const double t = k * 1e-3;
+    const bool air1 = t >= 0.1 - 1e-9 && t < 0.6 - 1e-9;
+    const bool air0 = t >= 0.7 - 1e-9 && t < 1.1 - 1e-9;
+    Observation obs =
+        Standing(t, !air0, !air1, t < 1.1 - 1e-9 ? -0.1 : 0.56, t < 0.6 - 1e-9 ? -0.1 : 0.2);
+    obs.terrain = terrain;
+    walker->Compute(obs);
+  }
+}
+
 TEST(VelocityProfileTest, ConstantRampAndSteps) {
   VelocityProfile v;
   v.points = {{0.0, 0.4}, {10.0, 0.8}, {20.0, 1.0}};
@@ -104,8 +119,7 @@ TEST(FuzzyCmacWalkerTest, PdLawsOfEquations21To24) {
 }
 
 TEST(FuzzyCmacWalkerTest, VelocityControlOfEquations19And20) {
-  // Leg 1 (index 1) lifts off at t = 0.1 and lands at 0.6 (0.30 m ahead): V_M = 0.6 m/s. Leg 0
-  // lifts off at 0.7 and lands at 1.1 (0.36 m ahead): V_M = 0.9. With v_m_average_steps = 1:
+  // WalkTwoSteps: V_M = 0.6 then 0.9 m/s, the second step 0.4 s. With v_m_average_steps = 1:
   //   after step 1: q0_d = 0.07 + K_P (0.8 - 0.6)
   //   after step 2: q0_d += K_P (0.8 - 0.9) + K_V ((0.8 - 0.9) - (0.8 - 0.6)) / 0.4
   WalkerParams p;
@@ -118,15 +132,7 @@ TEST(FuzzyCmacWalkerTest, VelocityControlOfEquations19And20) {
   VelocityProfile v;
   v.points = {{0.0, 0.8}};
   FuzzyCmacWalker walker(p, ConstantPattern(), v, 0);
-  const double dt = 1e-3;
-  for (int k = 0; k <= 1200; ++k) {
-    const double t = k * dt;
-    const bool air1 = t >= 0.1 - 1e-9 && t < 0.6 - 1e-9;
-    const bool air0 = t >= 0.7 - 1e-9 && t < 1.1 - 1e-9;
-    const double x1 = t < 0.6 - 1e-9 ? -0.1 : 0.2;
-    const double x0 = t < 1.1 - 1e-9 ? -0.1 : 0.56;
-    walker.Compute(Standing(t, !air0, !air1, x0, x1));
-  }
+  WalkTwoSteps(&walker);
   ASSERT_EQ(walker.steps().size(), 2u);
   const WalkerStep& s1 = walker.steps()[0];
   const WalkerStep& s2 = walker.steps()[1];
@@ -152,13 +158,7 @@ TEST(FuzzyCmacWalkerTest, PitchIsClampedAndStrideAveraged) {
   VelocityProfile v;
   v.points = {{0.0, 2.0}};
   FuzzyCmacWalker walker(p, ConstantPattern(), v, 0);
-  for (int k = 0; k <= 1200; ++k) {
-    const double t = k * 1e-3;
-    const bool air1 = t >= 0.1 - 1e-9 && t < 0.6 - 1e-9;
-    const bool air0 = t >= 0.7 - 1e-9 && t < 1.1 - 1e-9;
-    walker.Compute(Standing(t, !air0, !air1, t < 1.1 - 1e-9 ? -0.1 : 0.56,
-                            t < 0.6 - 1e-9 ? -0.1 : 0.2));
-  }
+  WalkTwoSteps(&walker);
   ASSERT_EQ(walker.steps().size(), 2u);
   EXPECT_DOUBLE_EQ(walker.q0_d(), 0.2);
   EXPECT_NEAR(walker.steps()[1].v_m_used, 0.75, 1e-9);  // mean of 0.6 and 0.9
@@ -185,15 +185,7 @@ TEST(FuzzyCmacWalkerTest, NoiseIsSeededAndZeroNoiseChangesNothing) {
     FuzzyCmacWalker walker(p, ConstantPattern(), v, 0);
     Terrain terrain;
     terrain.obstacles = {{0.5, 0.2, 0.05}};
-    for (int k = 0; k <= 1200; ++k) {
-      const double t = k * 1e-3;
-      const bool air1 = t >= 0.1 - 1e-9 && t < 0.6 - 1e-9;
-      const bool air0 = t >= 0.7 - 1e-9 && t < 1.1 - 1e-9;
-      Observation obs = Standing(t, !air0, !air1, t < 1.1 - 1e-9 ? -0.1 : 0.56,
-                                 t < 0.6 - 1e-9 ? -0.1 : 0.2);
-      obs.terrain = &terrain;
-      walker.Compute(obs);
-    }
+    WalkTwoSteps(&walker, &terrain);
     std::vector<double> seen;
     for (const WalkerStep& s : walker.steps()) {
       seen.push_back(s.v_m_used);

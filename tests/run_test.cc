@@ -38,7 +38,8 @@ class PaperSuiteTest : public ::testing::Test {
   static void SetUpTestSuite() {
     suite_ = new Suite(LoadSuite(kRoot + "/scenarios/paper.toml"));
     runs_ = new std::vector<RunOutput>();
-    rows_ = new std::vector<std::string>(DeterministicRows(*suite_, "^(ramp|flat|obstacle)$", 2, runs_));
+    rows_ = new std::vector<std::string>(
+        DeterministicRows(*suite_, "^(ramp|flat|obstacle)$", 2, runs_));
   }
   static void TearDownTestSuite() {
     delete suite_;
@@ -145,8 +146,8 @@ TEST(RunMetricsTest, EnergyAndCostOfTransport) {
   const double kTolerance = 1e-9;
   EXPECT_NEAR(r.metrics.energy, work, kTolerance * work);
   const Model model(s.model);
-  EXPECT_NEAR(r.metrics.cost_of_transport,
-              work / (model.total_mass() * 9.81 * r.metrics.distance), 1e-12);
+  EXPECT_NEAR(r.metrics.cost_of_transport, work / (model.total_mass() * 9.81 * r.metrics.distance),
+              1e-12);
   EXPECT_GT(r.metrics.distance, 4.0);
   EXPECT_GT(r.metrics.steps, 10);
 }
@@ -177,8 +178,8 @@ TEST(CriteriaTest, TrackingIsCheckedOnSettledStridesUpToTheLimit) {
   // V_d 0.5 for 6 steps then 0.9. Step i is settled when steps i-3..i-1 saw its V_d: steps 3-5
   // (V_d 0.5) and 9 (V_d 0.9 > 0.8: not checked). Strides: (0.50 + 0.52) / 2, (0.52 + 0.48) / 2,
   // (0.48 + 0.51) / 2, all within 0.05 of 0.5.
-  std::vector<std::pair<double, double>> steps = {{0.5, 0.1}, {0.5, 0.2}, {0.5, 0.5}, {0.5, 0.52},
-                                                  {0.5, 0.48}, {0.5, 0.51}, {0.9, 0.5},  {0.9, 0.5},
+  std::vector<std::pair<double, double>> steps = {{0.5, 0.1},  {0.5, 0.2},  {0.5, 0.5}, {0.5, 0.52},
+                                                  {0.5, 0.48}, {0.5, 0.51}, {0.9, 0.5}, {0.9, 0.5},
                                                   {0.9, 0.5},  {0.9, 0.5}};
   RunOutput good = HandRun(steps);
   EvaluateCriteria(s, &good);

@@ -1,7 +1,6 @@
 // Scenario files: the shipped examples load; every kind of bad input is refused with an
 // InputError that names the file, the line and the key.
 #include "rabbit/scenario/scenario.h"
-#include "rabbit/scenario/suite.h"
 
 #include <gtest/gtest.h>
 
@@ -10,6 +9,7 @@
 
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
+#include "rabbit/scenario/suite.h"
 
 namespace rabbit {
 namespace {

@@ -5,11 +5,11 @@
 #include "rabbit/scenario/suite.h"
 
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <set>
-#include <unistd.h>
 
 #include "rabbit/io/error.h"
 
@@ -52,11 +52,16 @@ class SuiteTest : public ::testing::Test {
   // A walker suite on the shipped gaits, with `extra` appended.
   std::string Walker(const std::string& extra) {
     return "[suite]\nname = \"t\"\n[defaults.simulation]\nduration = 2.0\n"  // lines 1-4
-           "[defaults.velocity]\nvalue = 0.6\n"                             // lines 5-6
+           "[defaults.velocity]\nvalue = 0.6\n"                              // lines 5-6
            "[defaults.controller]\ntype = \"fuzzy_cmac\"\n"                  // lines 7-8
-           "fll = \"" + kRoot + "/gaits/gait_pattern.fll\"\n"                 // line 9
-           "networks = \"" + kRoot + "/gaits/networks\"\n"                    // line 10
-           "gaits = \"" + kRoot + "/gaits/reference\"\n" +                    // line 11
+           "fll = \"" +
+           kRoot +
+           "/gaits/gait_pattern.fll\"\n"  // line 9
+           "networks = \"" +
+           kRoot +
+           "/gaits/networks\"\n"  // line 10
+           "gaits = \"" +
+           kRoot + "/gaits/reference\"\n" +  // line 11
            extra;
   }
   fs::path dir_;
@@ -106,8 +111,8 @@ TEST_F(SuiteTest, ErrorsNameTheLineInTheScenarioOrInTheDefaults) {
   ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.controller]\nhip_kq = 3\n"), 15,
               "scenario[1].controller.hip_kq", "unknown key");
   // In the defaults (line 12), reported for the scenario that reads it.
-  ExpectError(Walker("k_vv = 0.1\n[[scenario]]\nname = \"a\"\n"), 12,
-              "scenario[1].controller.k_vv", "unknown key");
+  ExpectError(Walker("k_vv = 0.1\n[[scenario]]\nname = \"a\"\n"), 12, "scenario[1].controller.k_vv",
+              "unknown key");
 }
 
 TEST_F(SuiteTest, BadInputOfTheIssue) {

@@ -13,8 +13,8 @@ int main(int argc, char** argv) {
   app.require_subcommand(1);
   const std::vector<rabbit::cli::Command> commands = {
       rabbit::cli::RegisterSimulate(&app), rabbit::cli::RegisterGaits(&app),
-      rabbit::cli::RegisterTrain(&app), rabbit::cli::RegisterFis(&app),
-      rabbit::cli::RegisterRun(&app), rabbit::cli::RegisterReport(&app)};
+      rabbit::cli::RegisterTrain(&app),    rabbit::cli::RegisterFis(&app),
+      rabbit::cli::RegisterRun(&app),      rabbit::cli::RegisterReport(&app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -115,23 +115,23 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& jobs,
     if (!r.passed && main_variant && jobs[i].scenario->required) ++outcome.failed_required;
   }
   if (!args.quiet) {
-    std::printf("suite      %s (%s): %zu runs in %.1f s wall on %d threads (%.1f runs/min, %.0fx "
-                "real time)\n",
-                suite.name.c_str(), suite.file.c_str(), jobs.size(), wall,
-                args.jobs > 0 ? args.jobs : static_cast<int>(std::thread::hardware_concurrency()),
-                wall > 0 ? 60.0 * static_cast<double>(jobs.size()) / wall : 0.0,
-                wall > 0 ? outcome.simulated / wall : 0.0);
-    std::printf("%-34s %-10s %-6s %6s %8s %9s %8s\n", "run", "outcome", "pass", "steps",
-                "dist m", "|V-Vd| m/s", "L_step m");
+    std::printf(
+        "suite      %s (%s): %zu runs in %.1f s wall on %d threads (%.1f runs/min, %.0fx "
+        "real time)\n",
+        suite.name.c_str(), suite.file.c_str(), jobs.size(), wall,
+        args.jobs > 0 ? args.jobs : static_cast<int>(std::thread::hardware_concurrency()),
+        wall > 0 ? 60.0 * static_cast<double>(jobs.size()) / wall : 0.0,
+        wall > 0 ? outcome.simulated / wall : 0.0);
+    std::printf("%-34s %-10s %-6s %6s %8s %9s %8s\n", "run", "outcome", "pass", "steps", "dist m",
+                "|V-Vd| m/s", "L_step m");
     for (size_t i = 0; i < jobs.size(); ++i) {
       const RunOutput& r = brief[i];
-      std::printf("%-34s %-10s %-6s %6d %8.2f %9.3f %8.3f\n", r.run.c_str(),
-                  OutcomeName(r.sim.outcome),
-                  r.passed ? "yes" : (r.run == jobs[i].scenario->name && jobs[i].scenario->required
-                                          ? "NO"
-                                          : "no"),
-                  r.metrics.steps, r.metrics.distance, r.metrics.mean_abs_speed_error,
-                  r.metrics.l_step_mean);
+      std::printf(
+          "%-34s %-10s %-6s %6d %8.2f %9.3f %8.3f\n", r.run.c_str(), OutcomeName(r.sim.outcome),
+          r.passed ? "yes"
+                   : (r.run == jobs[i].scenario->name && jobs[i].scenario->required ? "NO" : "no"),
+          r.metrics.steps, r.metrics.distance, r.metrics.mean_abs_speed_error,
+          r.metrics.l_step_mean);
       for (const std::string& f : r.failures) std::printf("    - %s\n", f.c_str());
     }
     std::printf("wrote      %s\n",
@@ -154,8 +154,8 @@ int RunRun(RunArgs args) {
   for (const Suite& s : suites) {
     plans.push_back(PlanBatch(s, args.filter));
     if (plans.back().empty()) {
-      throw InputError(s.file, 0, "--filter", "no scenario of suite " + s.name + " matches \"" +
-                                                  args.filter + "\"");
+      throw InputError(s.file, 0, "--filter",
+                       "no scenario of suite " + s.name + " matches \"" + args.filter + "\"");
     }
   }
   for (size_t i = 0; i < suites.size(); ++i) {
@@ -169,7 +169,7 @@ int RunRun(RunArgs args) {
   int failed = 0;
   for (size_t i = 0; i < suites.size(); ++i) {
     // One suite: --out is its report folder; several: --out is their parent.
-    fs::path out = args.out.empty() ? fs::path("reports") / suites[i].name
+    fs::path out = args.out.empty()     ? fs::path("reports") / suites[i].name
                    : suites.size() == 1 ? fs::path(args.out)
                                         : fs::path(args.out) / suites[i].name;
     failed += RunOneSuite(suites[i], plans[i], out, args).failed_required;
@@ -196,8 +196,8 @@ Command RegisterRun(CLI::App* app) {
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--filter", args->filter, "Run only scenarios whose name matches this regex");
   cmd->add_option("--gnuplot", args->report.gnuplot, "gnuplot executable for the figures");
-  cmd->add_flag("--no-html", [args](std::int64_t) { args->html = false; },
-                "Write the CSV files only");
+  cmd->add_flag(
+      "--no-html", [args](std::int64_t) { args->html = false; }, "Write the CSV files only");
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but errors and warnings");
   return {cmd, [args] { return RunRun(*args); }};
 }

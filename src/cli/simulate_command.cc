@@ -35,7 +35,8 @@ int RunSimulate(const SimulateArgs& args) {
   }
   // Walker scenarios need their gait pattern (loaded before the clock starts).
   std::shared_ptr<const GaitLibrary> library;
-  if (scenario.controller == ControllerKind::kFuzzyCmac) library = LoadGaitLibrary(scenario.pattern);
+  if (scenario.controller == ControllerKind::kFuzzyCmac)
+    library = LoadGaitLibrary(scenario.pattern);
   const auto start = std::chrono::steady_clock::now();
   const RunOutput run = RunScenario(scenario, ScenarioVariants(scenario).front(), library.get());
   const SimResult& result = run.sim;

@@ -62,24 +62,23 @@ const char* VelocityProfileKindName(VelocityProfile::Kind kind) {
 }
 
 bool WalkerParams::IsValid(std::string* error) const {
-  const std::pair<const char*, double> values[] = {
-      {"hip_kp", hip_kp},
-      {"hip_kd", hip_kd},
-      {"knee_kp", knee_kp},
-      {"knee_kd", knee_kd},
-      {"stance_knee_kp", stance_knee_kp},
-      {"stance_knee_kd", stance_knee_kd},
-      {"trunk_kp", trunk_kp},
-      {"trunk_kd", trunk_kd},
-      {"d_obs_max", d_obs_max},
-      {"lift_clearance", lift_clearance},
-      {"lift_d_obs", lift_d_obs},
-      {"lift_lead", lift_lead},
-      {"lift_trail", lift_trail},
-      {"lift_ramp", lift_ramp},
-      {"lift_release", lift_release},
-      {"v_m_noise", v_m_noise},
-      {"d_obs_noise", d_obs_noise}};
+  const std::pair<const char*, double> values[] = {{"hip_kp", hip_kp},
+                                                   {"hip_kd", hip_kd},
+                                                   {"knee_kp", knee_kp},
+                                                   {"knee_kd", knee_kd},
+                                                   {"stance_knee_kp", stance_knee_kp},
+                                                   {"stance_knee_kd", stance_knee_kd},
+                                                   {"trunk_kp", trunk_kp},
+                                                   {"trunk_kd", trunk_kd},
+                                                   {"d_obs_max", d_obs_max},
+                                                   {"lift_clearance", lift_clearance},
+                                                   {"lift_d_obs", lift_d_obs},
+                                                   {"lift_lead", lift_lead},
+                                                   {"lift_trail", lift_trail},
+                                                   {"lift_ramp", lift_ramp},
+                                                   {"lift_release", lift_release},
+                                                   {"v_m_noise", v_m_noise},
+                                                   {"d_obs_noise", d_obs_noise}};
   for (const auto& [name, value] : values) {
     if (!(std::isfinite(value) && value >= 0.0 && value <= 1e5)) {
       *error = std::string(name) + " must be in [0, 1e5]";
@@ -189,9 +188,8 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     have_error_ = true;
   }
   const double front = obs.foot_pos[step.leg].x();
-  double d_obs = obs.terrain != nullptr
-                     ? ObstacleDistance(*obs.terrain, front, p_.d_obs_max)
-                     : p_.d_obs_max;
+  double d_obs =
+      obs.terrain != nullptr ? ObstacleDistance(*obs.terrain, front, p_.d_obs_max) : p_.d_obs_max;
   if (p_.d_obs_noise > 0.0) {
     d_obs = std::clamp(d_obs + p_.d_obs_noise * Gaussian(), 0.0, p_.d_obs_max);
   }
@@ -256,9 +254,8 @@ void FuzzyCmacWalker::ApplyLift(const Observation& obs, int sw_hip, Eigen::Vecto
       if (q[kY] - l1 * std::cos(a_m) - l2 * std::cos(a_m + knee) < h) {
         const double s0 = std::acos(std::clamp((q[kY] - l1 * std::cos(a_m) - h) / l2, -1.0, 1.0));
         // The shin angle that reaches h: backward (-s0) unless forward is nearer and allowed.
-        const double shin = (s0 <= a_m && std::abs(s0 - (a_m + knee)) < std::abs(-s0 - (a_m + knee)))
-                                ? s0
-                                : -s0;
+        const double shin =
+            (s0 <= a_m && std::abs(s0 - (a_m + knee)) < std::abs(-s0 - (a_m + knee))) ? s0 : -s0;
         delta[1] = std::min(delta[1], std::min(shin - a_m, 0.0) - r[1]);
       }
     }
@@ -277,10 +274,10 @@ void FuzzyCmacWalker::ApplyLift(const Observation& obs, int sw_hip, Eigen::Vecto
 Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   if (periods_ == 0) {
     // The first step's context: the assumed V_M and the obstacle ahead of the stance foot.
-    const double d_obs = obs.terrain != nullptr
-                             ? ObstacleDistance(*obs.terrain, obs.foot_pos[stance_].x(),
-                                                p_.d_obs_max)
-                             : p_.d_obs_max;
+    const double d_obs =
+        obs.terrain != nullptr
+            ? ObstacleDistance(*obs.terrain, obs.foot_pos[stance_].x(), p_.d_obs_max)
+            : p_.d_obs_max;
     SetContext(v_m_, d_obs);
   }
   const int swing = 1 - stance_;

@@ -8,9 +8,9 @@
 //                  divided by t_step), clamped to [q0_d_min, q0_d_max];
 //   PD             swing hip and knee track the gait pattern (eqs. 21-22), stance knee locked at 0
 //                  (eq. 23), stance hip holds the trunk at q0_d (eq. 24).
-// Perception: V_M is the gait meter's last complete step (eq. 1); d_obs the horizontal distance from
-// the front (new stance) foot to the near edge of the next obstacle ahead, saturated at d_obs_max.
-// Both may carry Gaussian noise from a seeded generator (deterministic for a seed).
+// Perception: V_M is the gait meter's last complete step (eq. 1); d_obs the horizontal distance
+// from the front (new stance) foot to the near edge of the next obstacle ahead, saturated at
+// d_obs_max. Both may carry Gaussian noise from a seeded generator (deterministic for a seed).
 //
 // Support exchange: when the swing foot lands (after at least the gait meter's min_air_time in the
 // air) ahead of the stance foot, legs swap roles. A swing foot that scuffs the ground behind the
@@ -63,8 +63,8 @@ struct WalkerParams {
   // steps alternate by a few cm/s, which would otherwise drive the fuzzy blend step by step.
   int v_m_average_steps = 2;
   // Perception.
-  double d_obs_max = 1.0;  // m: d_obs saturates here (>= 0.5 m means no obstacle to the FIS)
-  double v_m_noise = 0.0;  // m/s, standard deviation of the noise on V_M
+  double d_obs_max = 1.0;    // m: d_obs saturates here (>= 0.5 m means no obstacle to the FIS)
+  double v_m_noise = 0.0;    // m/s, standard deviation of the noise on V_M
   double d_obs_noise = 0.0;  // m, standard deviation of the noise on d_obs
   std::uint64_t seed = 1;    // of the noise
   // Frame of the gait pattern: true (default) the thigh frame (FuzzyCmac::QueryThigh: stance
@@ -87,10 +87,11 @@ struct WalkerParams {
   double lift_lead = 0.10, lift_trail = 0.04, lift_ramp = 0.10, lift_release = 0.10;  // m
   bool lift_feedback = true;
   double thigh_length = 0.40, shin_length = 0.47;  // m: the model's, for the inverse kinematics
-  // Baseline: instead of blending, use only the gait of the strongest rule (nearest-gait switching).
+  // Baseline: instead of blending, use only the gait of the strongest rule (nearest-gait
+  // switching).
   bool nearest_gait = false;
-  // Start: the first `warmup_steps` steps walk with the pragmatic rules `warmup` (the start gait's),
-  // and the Fuzzy-CMAC takes over at the touchdown that ends them (0: from t = 0).
+  // Start: the first `warmup_steps` steps walk with the pragmatic rules `warmup` (the start
+  // gait's), and the Fuzzy-CMAC takes over at the touchdown that ends them (0: from t = 0).
   int warmup_steps = 6;
   PragmaticParams warmup;
   // Keep the tracking log (references and measurements) every n-th control period (0: none).
@@ -100,14 +101,14 @@ struct WalkerParams {
 
 // One step as the walker saw it, at the touchdown that ended it.
 struct WalkerStep {
-  StepRecord step;                // gait meter's record (index, leg, t, L_step, t_step, V_M)
-  double v_d = 0.0;               // desired velocity at the touchdown, m/s
-  double v_m_used = 0.0;          // V_M given to the FIS and the velocity control (with noise)
-  double d_obs = 0.0;             // perceived d_obs for the next step (with noise), m
-  double q0_d = 0.0;              // desired trunk pitch for the next step, rad
-  std::vector<double> weights;    // per reference gait, summing to 1
-  std::vector<double> activation; // per rule (normalised)
-  bool walker_active = true;      // false during the pragmatic warm-up
+  StepRecord step;                 // gait meter's record (index, leg, t, L_step, t_step, V_M)
+  double v_d = 0.0;                // desired velocity at the touchdown, m/s
+  double v_m_used = 0.0;           // V_M given to the FIS and the velocity control (with noise)
+  double d_obs = 0.0;              // perceived d_obs for the next step (with noise), m
+  double q0_d = 0.0;               // desired trunk pitch for the next step, rad
+  std::vector<double> weights;     // per reference gait, summing to 1
+  std::vector<double> activation;  // per rule (normalised)
+  bool walker_active = true;       // false during the pragmatic warm-up
 };
 
 // One line of the tracking log.
@@ -150,9 +151,9 @@ class FuzzyCmacWalker final : public Controller {
   bool warming_up_;
   int stance_;
   double q0_d_;
-  double v_m_;                 // V_M in use (noisy)
+  double v_m_;                    // V_M in use (noisy)
   std::vector<double> measured_;  // measured per-step V_M (noisy), for the running mean
-  double last_error_ = 0.0;    // V_d - V_M at the previous step
+  double last_error_ = 0.0;       // V_d - V_M at the previous step
   bool have_error_ = false;
   std::uint64_t rng_;
   long periods_ = 0;

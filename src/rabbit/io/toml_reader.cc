@@ -10,8 +10,8 @@
 namespace rabbit {
 
 TomlReader::TomlReader(std::vector<std::shared_ptr<const toml::table>> owners,
-                       std::vector<const toml::table*> layers, std::string file,
-                       std::string prefix, int line)
+                       std::vector<const toml::table*> layers, std::string file, std::string prefix,
+                       int line)
     : owners_(std::move(owners)),
       layers_(std::move(layers)),
       file_(std::move(file)),

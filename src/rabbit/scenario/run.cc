@@ -75,7 +75,8 @@ std::shared_ptr<const GaitLibrary> LoadGaitLibrary(const GaitPatternFiles& files
     library->pattern.SetTrunkPitches(pitches);
     return library;
   } catch (const std::invalid_argument& e) {
-    throw InputError(files.fll, 0, "", std::string(e.what()) + " (networks: " + files.networks + ")");
+    throw InputError(files.fll, 0, "",
+                     std::string(e.what()) + " (networks: " + files.networks + ")");
   }
 }
 
@@ -165,9 +166,9 @@ RunMetrics ComputeMetrics(const Scenario& scenario, const Model& model, const Si
     m.saturation += sim.saturation_time(j, scenario.options.control_period);
   }
   m.energy = sim.positive_work;
-  m.cost_of_transport = m.distance > 0.1 ? m.energy / (model.total_mass() *
-                                                       model.params().gravity * m.distance)
-                                         : nan;
+  m.cost_of_transport = m.distance > 0.1
+                            ? m.energy / (model.total_mass() * model.params().gravity * m.distance)
+                            : nan;
   std::vector<const StepRow*> measured;
   for (const StepRow& s : steps) {
     if (Measured(s)) measured.push_back(&s);
@@ -228,7 +229,8 @@ void EvaluateCriteria(const Scenario& scenario, RunOutput* run) {
                     measured.size(), c.spread_steps);
       fail.push_back(text);
     } else if (!(run->metrics.l_step_spread <= c.max_l_step_spread)) {
-      std::snprintf(text, sizeof text, "L_step spread %.4f m over the last %d steps (at most %.4f m)",
+      std::snprintf(text, sizeof text,
+                    "L_step spread %.4f m over the last %d steps (at most %.4f m)",
                     run->metrics.l_step_spread, c.spread_steps, c.max_l_step_spread);
       fail.push_back(text);
     }

@@ -27,7 +27,7 @@ namespace rabbit {
 // read-only by every run that names the same files.
 struct GaitLibrary {
   GaitPatternFiles files;
-  FuzzyCmac pattern;                  // trunk pitches set (thigh frame)
+  FuzzyCmac pattern;                    // trunk pitches set (thigh frame)
   std::vector<std::string> gait_names;  // network order (gait k = O^{k+1})
   std::vector<GaitRecord> gaits;        // same order
 };
@@ -54,7 +54,7 @@ struct StepRow {
   double v_d = 0.0;
   double v_m_used = 0.0;  // what the controller used (stride mean, noise); the step's V_M if none
   double d_obs = 0.0;
-  double q0_d = 0.0;  // rad
+  double q0_d = 0.0;            // rad
   std::vector<double> weights;  // per reference gait
   std::string rules;            // firing rules "d_obs set/V_M set:activation;..."
 };
@@ -64,8 +64,8 @@ struct RunMetrics {
   int steps = 0;
   double mean_abs_speed_error = 0.0, final_abs_speed_error = 0.0;  // NaN without measured steps
   double l_step_mean = 0.0, l_step_min = 0.0, l_step_max = 0.0, l_step_spread = 0.0;
-  double saturation = 0.0;  // s, summed over the joints
-  double energy = 0.0;      // J, positive actuator work
+  double saturation = 0.0;         // s, summed over the joints
+  double energy = 0.0;             // J, positive actuator work
   double cost_of_transport = 0.0;  // energy / (m g distance), NaN when the robot did not advance
 };
 

@@ -208,6 +208,7 @@ void ReadInitial(TomlReader t, const Model& model, Scenario* s) {
   t.Finish();
 }
 
+// passive or pd_hold (ReadScenario has checked the type).
 void ReadController(TomlReader t, Scenario* s) {
   const std::string type = t.String("type", "passive");
   if (type == "passive") {
@@ -230,10 +231,6 @@ void ReadController(TomlReader t, Scenario* s) {
         {s->q0[kQ11] / kDeg, s->q0[kQ12] / kDeg, s->q0[kQ21] / kDeg, s->q0[kQ22] / kDeg}, 4);
     p.target = Vec4(target[0], target[1], target[2], target[3]) * kDeg;
     Validate(t, p);
-  } else {
-    t.Fail("type", "unknown controller \"" + type +
-                       "\" (expected \"passive\", \"pd_hold\", \"pragmatic\" or "
-                       "\"fuzzy_cmac\")");
   }
   t.Finish();
 }
@@ -331,11 +328,10 @@ PassCriteria ReadCriteria(TomlReader t) {
       t.Integer("min_steps_after_obstacles", c.min_steps_after_obstacles, 0, kMaxSteps));
   c.allow_obstacle_contact = t.Bool("allow_obstacle_contact", c.allow_obstacle_contact);
   t.Finish();
-  for (const auto& [key, value] :
-       {std::pair<const char*, double>{"min_distance_m", c.min_distance},
-        {"max_l_step_spread_m", c.max_l_step_spread},
-        {"speed_tolerance_m_s", c.speed_tolerance},
-        {"track_up_to_m_s", c.track_up_to}}) {
+  for (const auto& [key, value] : {std::pair<const char*, double>{"min_distance_m", c.min_distance},
+                                   {"max_l_step_spread_m", c.max_l_step_spread},
+                                   {"speed_tolerance_m_s", c.speed_tolerance},
+                                   {"track_up_to_m_s", c.track_up_to}}) {
     if (value < 0.0) t.Fail(key, "must be >= 0");
   }
   return c;
@@ -406,7 +402,8 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
   for (size_t i = 0; i < s->baselines.size(); ++i) {
     const std::string& b = s->baselines[i];
     if (b != "pragmatic" && b != "nearest_gait") {
-      t->Fail("baselines", "unknown baseline \"" + b + "\" (expected \"pragmatic\" or \"nearest_gait\")");
+      t->Fail("baselines",
+              "unknown baseline \"" + b + "\" (expected \"pragmatic\" or \"nearest_gait\")");
     }
     for (size_t j = 0; j < i; ++j) {
       if (s->baselines[j] == b) t->Fail("baselines", "\"" + b + "\" listed twice");

@@ -26,8 +26,8 @@ enum class ControllerKind { kPassive, kPdHold, kPragmatic, kFuzzyCmac };
 // What a scenario must show to pass (checked after the run by EvaluateCriteria in
 // rabbit/scenario/criteria.h). Unset criteria (0 or infinity) are not checked.
 struct PassCriteria {
-  int min_steps = 0;                // steps taken without falling
-  double min_distance = 0.0;        // m the hip travelled
+  int min_steps = 0;          // steps taken without falling
+  double min_distance = 0.0;  // m the hip travelled
   // L_step spread (max - min) over the last `spread_steps` steps.
   double max_l_step_spread = std::numeric_limits<double>::infinity();  // m
   int spread_steps = 10;

@@ -25,7 +25,8 @@ std::vector<std::string> SplitPath(const std::string& path) {
 }
 
 bool IsIndex(const std::string& part, size_t* index) {
-  if (part.empty() || part.size() > 6 || part.find_first_not_of("0123456789") != std::string::npos) {
+  if (part.empty() || part.size() > 6 ||
+      part.find_first_not_of("0123456789") != std::string::npos) {
     return false;
   }
   *index = std::stoul(part);
@@ -133,16 +134,17 @@ Suite LoadSuite(const std::string& path) {
   for (TomlReader& s : root.TableArray("scenario")) {
     std::vector<const toml::table*> layers = s.layers();
     layers.insert(layers.end(), default_layers.begin(), default_layers.end());
-    suite.scenarios.push_back(ReadScenario(
-        TomlReader::FromLayers(s.owners(), layers, path, s.prefix(), s.line()), ""));
+    suite.scenarios.push_back(
+        ReadScenario(TomlReader::FromLayers(s.owners(), layers, path, s.prefix(), s.line()), ""));
   }
   for (TomlReader& f : root.TableArray("family")) {
     const std::string name = f.String("name", "");
-    if (!IsSafeName(name)) f.Fail("name", "a family needs a name of letters, digits, '.', '_', '-'");
+    if (!IsSafeName(name))
+      f.Fail("name", "a family needs a name of letters, digits, '.', '_', '-'");
     const long count = f.Integer("count", 0, 1, kMaxFamilyCount);
     if (!f.Has("count")) f.Fail("", "missing required key 'count'");
-    const auto seed = static_cast<std::uint64_t>(
-        f.Integer("seed", 1, 0, std::numeric_limits<long>::max()));
+    const auto seed =
+        static_cast<std::uint64_t>(f.Integer("seed", 1, 0, std::numeric_limits<long>::max()));
     TomlReader templ = f.Table("scenario");
     TomlReader vary = f.Table("vary");
     f.Finish();
@@ -167,7 +169,8 @@ Suite LoadSuite(const std::string& path) {
       overrides->insert_or_assign("name", name + member);
       if (!template_seeds) {
         overrides->insert_or_assign(
-            "seed", static_cast<int64_t>(CmacHashStep(CmacMix64(seed), static_cast<std::uint64_t>(i)) >> 2));
+            "seed", static_cast<int64_t>(
+                        CmacHashStep(CmacMix64(seed), static_cast<std::uint64_t>(i)) >> 2));
       }
       for (size_t k = 0; k < ranges.size(); ++k) {
         const auto& [key, range] = ranges[k];
@@ -180,8 +183,8 @@ Suite LoadSuite(const std::string& path) {
       std::vector<const toml::table*> layers = {overrides.get()};
       layers.insert(layers.end(), base.begin(), base.end());
       suite.scenarios.push_back(ReadScenario(
-          TomlReader::FromLayers(owners, layers, path, f.prefix() + ".scenario (" + name + member + ")",
-                                 templ.line()),
+          TomlReader::FromLayers(owners, layers, path,
+                                 f.prefix() + ".scenario (" + name + member + ")", templ.line()),
           ""));
     }
   }

@@ -305,9 +305,8 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
     const bool reached = alive && s.q[kX] >= opt.stop_distance;
     // Energies only for the samples kept (a run that records nothing, like a synthesis
     // candidate, skips them).
-    const bool record =
-        opt.record_every > 0 &&
-        (k % opt.record_every == 0 || !alive || reached || k == num_periods);
+    const bool record = opt.record_every > 0 &&
+                        (k % opt.record_every == 0 || !alive || reached || k == num_periods);
     if (record) {
       s.kinetic = KineticEnergy(model, s.qd, sample_data);
       s.potential = PotentialEnergy(model, s.q, sample_data);

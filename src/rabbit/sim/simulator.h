@@ -91,10 +91,10 @@ struct SimResult {
 // hip on the trunk's axis, acting on the control samples t_k with start <= t_k < start + duration
 // (held over each period like the torques, so its timing is quantised to the control period).
 struct TrunkPush {
-  double start = 0.0;     // s
-  double duration = 0.1;  // s
+  double start = 0.0;         // s
+  double duration = 0.1;      // s
   Vec2 force = Vec2::Zero();  // N
-  double height = 0.2;    // m above the hip, along the trunk
+  double height = 0.2;        // m above the hip, along the trunk
   bool IsValid(std::string* error) const;
 };
 
