@@ -31,6 +31,17 @@ std::string Number(double v) {
   return out.str();
 }
 
+// "start_s:duration_s:force_x_n:force_y_n:height_m;..." (empty: none).
+std::string PushesText(const std::vector<TrunkPush>& pushes) {
+  std::string out;
+  for (const TrunkPush& p : pushes) {
+    if (!out.empty()) out += ';';
+    out += Number(p.start) + ':' + Number(p.duration) + ':' + Number(p.force.x()) + ':' +
+           Number(p.force.y()) + ':' + Number(p.height);
+  }
+  return out;
+}
+
 }  // namespace
 
 void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::string& dir) {
@@ -45,7 +56,10 @@ void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::st
         << Number(m.trunk_length) << "\ncontrol_period_s,"
         << Number(scenario.options.control_period) << "\nvelocity_profile,"
         << VelocityProfileKindName(scenario.velocity.kind) << "\nstart_gait,"
-        << Cell(scenario.start_gait) << "\nseed," << scenario.seed << "\noutcome,"
+        << Cell(scenario.start_gait) << "\nseed," << scenario.seed << "\npushes,"
+        << Cell(PushesText(scenario.pushes)) << "\nv_m_noise_std_m_s,"
+        << Number(scenario.walker.v_m_noise) << "\nd_obs_noise_std_m,"
+        << Number(scenario.walker.d_obs_noise) << "\noutcome,"
         << OutcomeName(run.sim.outcome) << "\nreason," << Cell(run.sim.reason) << "\n";
   });
   WriteTrajectoryCsvFile(run.sim, (base / "trajectory.csv").string());

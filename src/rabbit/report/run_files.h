@@ -1,6 +1,7 @@
 // The CSV files of a batch run (the report's data; the HTML page is built from them afterwards):
 //   DIR/summary.csv          one row per run (SummaryColumns())
-//   DIR/<run>/meta.csv       key,value: scenario, variant, description, link lengths, period
+//   DIR/<run>/meta.csv       key,value: scenario, variant, description, link lengths, period,
+//                            velocity profile, start gait, seed, pushes, noise, outcome
 //   DIR/<run>/trajectory.csv the recorded samples (rabbit/scenario/trajectory_csv.h)
 //   DIR/<run>/steps.csv      step,leg,t_s,x_m,v_d_m_s,v_m_m_s,v_m_used_m_s,l_step_m,t_step_s,
 //                            d_obs_m,q0_d_deg,w_O1..w_ON,rules
