@@ -316,6 +316,9 @@ TEST_F(CliTest, RunBadInputExitsTwoAndLeavesNoReport) {
     }
   }
   EXPECT_EQ(RunCli("run " + dir_.string() + "/missing.toml --out " + out.string()).code, 2);
+  const CliRun suite_to_simulate = RunCli("simulate " + Write("ok.toml", SmallSuite("")));
+  EXPECT_EQ(suite_to_simulate.code, 2);
+  EXPECT_NE(suite_to_simulate.output.find("rabbit run"), std::string::npos);
   EXPECT_EQ(
       RunCli("run " + Write("ok.toml", SmallSuite("")) + " --filter '(' --out " + out.string())
           .code,

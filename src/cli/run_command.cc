@@ -167,12 +167,28 @@ int RunRun(RunArgs args) {
     }
   }
   int failed = 0;
-  for (size_t i = 0; i < suites.size(); ++i) {
-    // One suite: --out is its report folder; several: --out is their parent.
-    fs::path out = args.out.empty()     ? fs::path("reports") / suites[i].name
+  // One suite: --out is its report folder; several: --out is their parent. An existing folder is
+  // replaced only when it is empty or a report (has summary.csv): never anything else.
+  std::vector<fs::path> outs;
+  for (const Suite& suite : suites) {
+    fs::path out = args.out.empty()     ? fs::path("reports") / suite.name
                    : suites.size() == 1 ? fs::path(args.out)
-                                        : fs::path(args.out) / suites[i].name;
-    failed += RunOneSuite(suites[i], plans[i], out, args).failed_required;
+                                        : fs::path(args.out) / suite.name;
+    out = out.lexically_normal();
+    if (out.filename().empty()) out = out.parent_path();  // "dir/" -> "dir"
+    if (out.empty() || out == "." || out == "..") {
+      throw InputError("--out", 0, args.out, "name a folder for the report");
+    }
+    if (fs::exists(out) &&
+        !(fs::is_directory(out) && (fs::is_empty(out) || fs::exists(out / "summary.csv")))) {
+      throw InputError(
+          "--out", 0, out.string(),
+          "exists and is not a report folder (no summary.csv): refusing to replace it");
+    }
+    outs.push_back(out);
+  }
+  for (size_t i = 0; i < suites.size(); ++i) {
+    failed += RunOneSuite(suites[i], plans[i], outs[i], args).failed_required;
   }
   if (failed > 0) {
     std::cerr << "rabbit run: " << failed << " required scenario(s) failed their criteria\n";

@@ -6,9 +6,11 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "rabbit/io/error.h"
 #include "rabbit/model/model.h"
 #include "rabbit/scenario/run.h"
 #include "rabbit/scenario/scenario.h"
+#include "rabbit/scenario/suite.h"
 #include "rabbit/scenario/trajectory_csv.h"
 #include "rabbit/sim/simulator.h"
 
@@ -23,6 +25,10 @@ struct SimulateArgs {
 };
 
 int RunSimulate(const SimulateArgs& args) {
+  if (IsSuiteFile(args.scenario)) {
+    throw InputError(args.scenario, 0, "",
+                     "this is a suite of scenarios: run it with `rabbit run`");
+  }
   Scenario scenario = LoadScenario(args.scenario);
   if (!args.integrator.empty()) {
     ParseIntegratorName(args.integrator, &scenario.options.integrator.kind);  // checked by CLI11
