@@ -68,7 +68,7 @@ void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::st
   WriteFileAtomically((base / "steps.csv").string(), [&](std::ostream& out) {
     out << "step,leg,t_s,x_m,v_d_m_s,v_m_m_s,v_m_used_m_s,l_step_m,t_step_s,d_obs_m,q0_d_deg";
     for (size_t k = 1; k <= gaits; ++k) out << ",w_O" << k;
-    out << ",rules\n";
+    out << ",rules,warmup\n";
     for (const StepRow& s : run.steps) {
       const bool measured = s.step.t_step > 0.0;
       out << s.step.index << ',' << s.step.leg + 1 << ',' << Number(s.step.t_touchdown) << ','
@@ -80,7 +80,7 @@ void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::st
       for (size_t k = 0; k < gaits; ++k) {
         out << ',' << (k < s.weights.size() ? Number(s.weights[k]) : "nan");
       }
-      out << ',' << Cell(s.rules) << '\n';
+      out << ',' << Cell(s.rules) << ',' << (s.warmup ? 1 : 0) << '\n';
     }
   });
   WriteFileAtomically((base / "tracking.csv").string(), [&](std::ostream& out) {

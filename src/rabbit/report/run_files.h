@@ -4,7 +4,7 @@
 //                            velocity profile, start gait, seed, pushes, noise, outcome
 //   DIR/<run>/trajectory.csv the recorded samples (rabbit/scenario/trajectory_csv.h)
 //   DIR/<run>/steps.csv      step,leg,t_s,x_m,v_d_m_s,v_m_m_s,v_m_used_m_s,l_step_m,t_step_s,
-//                            d_obs_m,q0_d_deg,w_O1..w_ON,rules
+//                            d_obs_m,q0_d_deg,w_O1..w_ON,rules,warmup
 //   DIR/<run>/tracking.csv   t_s,stance_leg,e_rad,q_sw1_d_rad,q_sw1_rad,q_sw2_d_rad,q_sw2_rad,
 //                            q0_d_rad,q0_rad (legs 1-based; references nan when none)
 //   DIR/<run>/terrain.csv    x_start_m,length_m,height_m

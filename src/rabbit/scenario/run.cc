@@ -125,7 +125,7 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     out.sim = Simulate(setup, scenario.q0, scenario.qd0, &controller);
     for (const WalkerStep& w : controller.steps()) {
       out.steps.push_back({w.step, w.v_d, w.v_m_used, w.d_obs, w.q0_d, w.weights,
-                           FiringRules(library->pattern.fis(), w.activation)});
+                           FiringRules(library->pattern.fis(), w.activation), !w.walker_active});
     }
     out.tracking = controller.tracking();
   } else if (variant == "pragmatic") {
@@ -143,7 +143,7 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     for (const StepRecord& s : controller.meter().steps()) {
       out.steps.push_back({s, scenario.velocity.At(s.t_touchdown), s.v_m,
                            ObstacleDistance(scenario.terrain, s.x, d_max), rules.q0_d, weights,
-                           ""});
+                           "", false});
     }
   } else {
     std::unique_ptr<Controller> controller = MakeController(scenario);

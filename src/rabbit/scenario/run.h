@@ -57,6 +57,7 @@ struct StepRow {
   double q0_d = 0.0;            // rad
   std::vector<double> weights;  // per reference gait
   std::string rules;            // firing rules "d_obs set/V_M set:activation;..."
+  bool warmup = false;          // walked by the warm-up's pragmatic rules (weights not used)
 };
 
 struct RunMetrics {
