@@ -316,6 +316,28 @@ TEST_F(CliTest, RunBadInputExitsTwoAndLeavesNoReport) {
     }
   }
   EXPECT_EQ(RunCli("run " + dir_.string() + "/missing.toml --out " + out.string()).code, 2);
+  // An existing folder that is not a report of rabbit run is never replaced, not even one with a
+  // summary.csv; a trailing slash names the same folder.
+  fs::create_directories(dir_ / "precious");
+  std::ofstream(dir_ / "precious" / "thesis.tex") << "keep me";
+  std::ofstream(dir_ / "precious" / "summary.csv") << "a,b\n";
+  const CliRun refused = RunCli("run " + Write("ok.toml", SmallSuite("")) + " --out " +
+                                (dir_ / "precious").string() + "/");
+  EXPECT_EQ(refused.code, 2) << refused.output;
+  EXPECT_NE(refused.output.find("refusing to replace"), std::string::npos) << refused.output;
+  EXPECT_TRUE(fs::exists(dir_ / "precious" / "thesis.tex"));
+  EXPECT_EQ(RunCli("run " + Write("ok.toml", SmallSuite("")) + " --out .").code, 2);
+  // A report of rabbit run is replaced; a suite given to simulate is pointed to rabbit run.
+  const fs::path report = dir_ / "report_twice";
+  ASSERT_EQ(
+      RunCli("run " + Write("ok.toml", SmallSuite("")) + " --no-html -q --out " + report.string())
+          .code,
+      0);
+  EXPECT_EQ(RunCli("run " + Write("ok.toml", SmallSuite("")) + " --no-html -q --out " +
+                   report.string() + "/")
+                .code,
+            0);
+  EXPECT_TRUE(fs::exists(report / ".rabbit-report"));
   const CliRun suite_to_simulate = RunCli("simulate " + Write("ok.toml", SmallSuite("")));
   EXPECT_EQ(suite_to_simulate.code, 2);
   EXPECT_NE(suite_to_simulate.output.find("rabbit run"), std::string::npos);

@@ -206,6 +206,23 @@ TEST_F(SuiteReportTest, DivergedTrajectoryRowsAreLeftOutWithAWarning) {
   fs::remove_all(dir);
 }
 
+TEST_F(SuiteReportTest, AHugeTimeSpanIsReplayedWithBoundedFrames) {
+  // The review's case: a last row at t = 1e7 s would ask for 2.5e8 frames at 25 fps. The replay
+  // keeps at most max_replay_frames, at a lower frame rate.
+  const std::string dir = CopyFixture("huge_span");
+  const std::string trajectory = (fs::path(dir) / "walk" / "trajectory.csv").string();
+  std::string text = ReadText(trajectory);
+  const size_t last = text.rfind('\n', text.size() - 2) + 1;
+  text.replace(last, text.find(',', last) - last, "1e7");
+  WriteText(trajectory, text);
+  SuiteReportOptions options;
+  options.gnuplot = "/nonexistent/gnuplot";
+  options.max_replay_frames = 5000;
+  const std::string page = ReadText(WriteSuiteReport(dir, options, nullptr));
+  EXPECT_EQ(Count(page, "\"frames\":5000,"), 1);
+  fs::remove_all(dir);
+}
+
 TEST(SuiteReportOptionsTest, Validation) {
   std::string error;
   EXPECT_TRUE(SuiteReportOptions{}.IsValid(&error)) << error;

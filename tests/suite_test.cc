@@ -168,8 +168,10 @@ value = 0.6
     const double x = s.terrain.obstacles.at(0).x_start;
     EXPECT_GE(x, 2.0);
     EXPECT_LT(x, 2.5);
-    EXPECT_DOUBLE_EQ(x, FamilyDraw(42, static_cast<int>(i), 0, 2.0, 2.5));
-    EXPECT_DOUBLE_EQ(s.velocity.At(0.0), FamilyDraw(42, static_cast<int>(i), 1, 0.5, 0.7));
+    EXPECT_DOUBLE_EQ(x,
+                     FamilyDraw(42, static_cast<int>(i), "terrain.obstacles.1.x_start", 2.0, 2.5));
+    EXPECT_DOUBLE_EQ(s.velocity.At(0.0),
+                     FamilyDraw(42, static_cast<int>(i), "velocity.value", 0.5, 0.7));
     EXPECT_DOUBLE_EQ(s.terrain.obstacles[0].height, 0.05);  // not varied: the template's
     EXPECT_DOUBLE_EQ(x, b.scenarios[i].terrain.obstacles[0].x_start);
     EXPECT_EQ(s.seed, b.scenarios[i].seed);
@@ -187,6 +189,13 @@ TEST_F(SuiteTest, FamilyErrors) {
               "low <= high");
   ExpectError(Walker("[[family]]\nname = \"f\"\ncount = 0\n"), 14, "family[1].count",
               "integer in [1, 10000]");
+  // The review's crashes: paths through the member's name or seed, or past a leaf in an array.
+  ExpectError(head + "\"name.x\" = [0, 1]\n", 16, "family[1].vary.name.x", "not varied");
+  ExpectError(head + "\"seed\" = [0, 1]\n", 16, "family[1].vary.seed", "not varied");
+  ExpectError(Walker("[[family]]\nname = \"f\"\ncount = 2\n[[family.scenario.terrain.obstacles]]\n"
+                     "x_start = 3.0\nlength = 0.2\nheight = 0.05\n[family.vary]\n"
+                     "\"terrain.obstacles.1.x_start.foo\" = [0, 1]\n"),
+              20, "family[1].vary.terrain.obstacles.1.x_start.foo", "not a table");
 }
 
 TEST_F(SuiteTest, AScenarioFileIsASuiteOfOne) {

@@ -27,6 +27,8 @@ namespace {
 namespace fs = std::filesystem;
 
 constexpr const char* kDefaultSuite = "scenarios/paper.toml";
+// Written into every report folder: only such folders (or empty ones) are ever replaced.
+constexpr const char* kReportMarker = ".rabbit-report";
 
 struct RunArgs {
   std::vector<std::string> suites;
@@ -92,6 +94,9 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& jobs,
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   if (terminal) std::fprintf(stderr, "\r\033[K");
+  WriteFileAtomically((staging / kReportMarker).string(), [&suite](std::ostream& out) {
+    out << "rabbit-report/1 suite " << suite.name << "\n";
+  });
   WriteFileAtomically((staging / "summary.csv").string(), [&rows](std::ostream& out) {
     out << SummaryHeader() << "\n";
     for (const std::string& r : rows) out << r << "\n";
@@ -168,7 +173,7 @@ int RunRun(RunArgs args) {
   }
   int failed = 0;
   // One suite: --out is its report folder; several: --out is their parent. An existing folder is
-  // replaced only when it is empty or a report (has summary.csv): never anything else.
+  // replaced only when it is empty or a report written by rabbit run (has the marker file).
   std::vector<fs::path> outs;
   for (const Suite& suite : suites) {
     fs::path out = args.out.empty()     ? fs::path("reports") / suite.name
@@ -180,10 +185,10 @@ int RunRun(RunArgs args) {
       throw InputError("--out", 0, args.out, "name a folder for the report");
     }
     if (fs::exists(out) &&
-        !(fs::is_directory(out) && (fs::is_empty(out) || fs::exists(out / "summary.csv")))) {
-      throw InputError(
-          "--out", 0, out.string(),
-          "exists and is not a report folder (no summary.csv): refusing to replace it");
+        !(fs::is_directory(out) && (fs::is_empty(out) || fs::exists(out / kReportMarker)))) {
+      throw InputError("--out", 0, out.string(),
+                       std::string("exists and is not a report of rabbit run (no ") +
+                           kReportMarker + "): refusing to replace it");
     }
     outs.push_back(out);
   }

@@ -192,11 +192,15 @@ std::string ReplayJson(const RunData& run, const SuiteReportOptions& options) {
   std::string t, p, c;
   size_t hint = 0;
   int frames = 0;
+  double fps = options.replay_fps;
   if (!tr.t.empty()) {
     const double t0 = tr.t.front(), span = tr.t.back() - t0;
-    const int count = static_cast<int>(std::floor(span * options.replay_fps + 1e-9)) + 1;
+    // At most options.max_replay_frames frames: a longer run is replayed at a lower frame rate
+    // (the trajectory reader has checked that the times are finite).
+    if (span * fps + 1.0 > options.max_replay_frames) fps = (options.max_replay_frames - 1) / span;
+    const int count = static_cast<int>(std::floor(span * fps + 1e-9)) + 1;
     for (int k = 0; k < count; ++k) {
-      const double time = t0 + static_cast<double>(k) / options.replay_fps;
+      const double time = t0 + static_cast<double>(k) / fps;
       int contact = 0;
       const StickFigure f = StickPoints(QAt(tr, time, &hint, &contact), run.lengths);
       const StickPoint points[6] = {f.hip, f.trunk_top, f.knee[0], f.foot[0], f.knee[1], f.foot[1]};
@@ -226,9 +230,9 @@ std::string ReplayJson(const RunData& run, const SuiteReportOptions& options) {
     steps += (steps.empty() ? "" : ",") + JsonNumber(s.t, dec) + ',' + JsonNumber(s.v_d, 3) + ',' +
              JsonNumber(v_m, 3) + ',' + JsonNumber(s.l_step, 3);
   }
-  return "{\"fps\":" + std::to_string(options.replay_fps) +
-         ",\"frames\":" + std::to_string(frames) + ",\"t\":[" + t + "],\"p\":[" + p + "],\"c\":[" +
-         (tr.contact.empty() ? "" : c) + "],\"obs\":[" + obs + "],\"s\":[" + steps + "]}";
+  return "{\"fps\":" + JsonNumber(fps, 6) + ",\"frames\":" + std::to_string(frames) + ",\"t\":[" +
+         t + "],\"p\":[" + p + "],\"c\":[" + (tr.contact.empty() ? "" : c) + "],\"obs\":[" + obs +
+         "],\"s\":[" + steps + "]}";
 }
 }  // namespace
 

@@ -86,6 +86,9 @@ bool SuiteReportOptions::IsValid(std::string* error) const {
     return fail("gnuplot_timeout must be a positive number of seconds");
   }
   if (replay_fps < 1 || replay_fps > 240) return fail("replay_fps must be within 1..240");
+  if (max_replay_frames < 2 || max_replay_frames > 1000000) {
+    return fail("max_replay_frames must be within 2..1000000");
+  }
   if (replay_decimals < 1 || replay_decimals > 9) {
     return fail("replay_decimals must be within 1..9");
   }

@@ -27,6 +27,7 @@ struct SuiteReportOptions {
   std::string gnuplot = "gnuplot";  // the plotter's executable (searched on PATH without a '/')
   double gnuplot_timeout = 60.0;    // s; gnuplot is killed after this and the figures left out
   int replay_fps = 25;              // frames per second of the embedded animation
+  int max_replay_frames = 20000;    // per run; longer runs replay at a lower frame rate
   int replay_decimals = 4;          // decimals of the replay's coordinates (m) and times (s)
   double stick_every = 0.1;         // s between drawn figures in stick diagrams
   double stick_window = 3.0;        // s of walking shown per stick diagram (chapter's ~2.8 s)

@@ -45,19 +45,17 @@ std::string SetOverride(const std::vector<const toml::table*>& layers, const std
   toml::table* out = overrides;
   for (size_t i = 0; i < parts.size(); ++i) {
     const std::string& key = parts[i];
-    const toml::node* found = nullptr;
+    const toml::node* found = out->get(key);  // set by an earlier key, or a copied array's
     for (const toml::table* t : here) {
-      if ((found = t->get(key)) != nullptr) break;
+      if (found == nullptr) found = t->get(key);
     }
-    if (found == nullptr && out->get(key) == nullptr) {
-      return "names no value of the template (no '" + key + "')";
-    }
+    if (found == nullptr) return "names no value of the template (no '" + key + "')";
     if (i + 1 == parts.size()) {
-      if (found != nullptr && !found->is_number()) return "is not a number in the template";
+      if (!found->is_number()) return "is not a number in the template";
       out->insert_or_assign(key, value);
       return "";
     }
-    if (found != nullptr && found->is_array()) {
+    if (found->is_array()) {
       // Copy the array once into the overrides, then descend into the copy.
       if (out->get(key) == nullptr) out->insert_or_assign(key, *found->as_array());
       toml::node* node = out->get(key);
@@ -82,7 +80,7 @@ std::string SetOverride(const std::vector<const toml::table*>& layers, const std
       out = sub;
       continue;
     }
-    if (found != nullptr && !found->is_table()) return "'" + key + "' is not a table";
+    if (!found->is_table()) return "'" + key + "' is not a table";
     std::vector<const toml::table*> next;
     for (const toml::table* t : here) {
       if (const toml::node* n = t->get(key); n != nullptr && n->is_table()) {
@@ -92,16 +90,19 @@ std::string SetOverride(const std::vector<const toml::table*>& layers, const std
     here = std::move(next);
     if (out->get(key) == nullptr) out->insert_or_assign(key, toml::table{});
     out = out->get(key)->as_table();
+    if (out == nullptr) return "'" + key + "' is not a table";
   }
   return "";
 }
 
 }  // namespace
 
-double FamilyDraw(std::uint64_t family_seed, int member, int key_index, double low, double high) {
+double FamilyDraw(std::uint64_t family_seed, int member, const std::string& key, double low,
+                  double high) {
+  std::uint64_t name = 0xCBF29CE484222325ULL;  // FNV-1a of the key
+  for (const char c : key) name = (name ^ static_cast<unsigned char>(c)) * 0x100000001B3ULL;
   const std::uint64_t h =
-      CmacHashStep(CmacHashStep(CmacMix64(family_seed), static_cast<std::uint64_t>(member)),
-                   static_cast<std::uint64_t>(key_index));
+      CmacHashStep(CmacHashStep(CmacMix64(family_seed), static_cast<std::uint64_t>(member)), name);
   const double u = static_cast<double>(h >> 11) * 0x1.0p-53;  // [0, 1)
   return low + u * (high - low);
 }
@@ -153,6 +154,10 @@ Suite LoadSuite(const std::string& path) {
     for (const toml::table* layer : vary.layers()) {
       for (const auto& [key, node] : *layer) {
         const std::string k(key.str());
+        if (k == "name" || k == "seed" || k.rfind("name.", 0) == 0 || k.rfind("seed.", 0) == 0) {
+          vary.Fail(k,
+                    "a family member's name and seed are not varied (they come from the family)");
+        }
         const std::vector<double> range = vary.Doubles(k, {}, 2);
         if (!(range[0] <= range[1])) vary.Fail(k, "expected [low, high] with low <= high");
         ranges.push_back({k, {range[0], range[1]}});
@@ -174,7 +179,7 @@ Suite LoadSuite(const std::string& path) {
       }
       for (size_t k = 0; k < ranges.size(); ++k) {
         const auto& [key, range] = ranges[k];
-        const double value = FamilyDraw(seed, i, static_cast<int>(k), range.first, range.second);
+        const double value = FamilyDraw(seed, i, key, range.first, range.second);
         const std::string error = SetOverride(base, key, value, overrides.get());
         if (!error.empty()) vary.Fail(key, "'" + key + "' " + error);
       }

@@ -9,7 +9,7 @@
 //     [family.vary]          "dotted.key.path" = [low, high]: drawn uniformly per member; array
 //                            elements by 1-based index, e.g. "terrain.obstacles.1.x_start"
 //   Member i (0-based) is named <family name>-<i, 3 digits>, gets seed = a hash of (family seed, i)
-//   unless the template sets one, and draws its values from a generator seeded by (seed, i, key):
+//   unless the template sets one, and draws its values from a hash of (seed, i, key name):
 //   the same members whatever the machine, the thread count or the other families.
 //
 // Relative paths in a suite resolve against the suite file's directory.
@@ -38,8 +38,10 @@ bool IsSuiteFile(const std::string& path);
 // the file, line and key (for a family member: the family's keys, and the member's name).
 Suite LoadSuite(const std::string& path);
 
-// The value a family member draws for one varied key, in [low, high).
-double FamilyDraw(std::uint64_t family_seed, int member, int key_index, double low, double high);
+// The value a family member draws for one varied key, in [low, high): a hash of the family's seed,
+// the member's index and the key's name (adding or removing another key changes nothing).
+double FamilyDraw(std::uint64_t family_seed, int member, const std::string& key, double low,
+                  double high);
 
 }  // namespace rabbit
 
