@@ -95,7 +95,7 @@ void BM_PaperSuite(benchmark::State& state) {
   const std::vector<BatchJob> jobs = PlanBatch(Paper(), "");
   double simulated = 0.0;
   for (auto _ : state) {
-    RunBatch(jobs, static_cast<int>(state.range(0)),
+    RunBatch(jobs, static_cast<int>(state.range(0)), nullptr,
              [&simulated](size_t, RunOutput&& run) { simulated += run.sim.t_end; });
   }
   const double runs = static_cast<double>(jobs.size() * state.iterations());

@@ -296,6 +296,20 @@ TEST_F(CliTest, RunExitsOneWhenARequiredScenarioFailsItsCriteria) {
   EXPECT_EQ(ReadFile(out / "summary.csv").find("second"), std::string::npos);
 }
 
+TEST_F(CliTest, RunOfSeveralSuitesReplacesNothingWhenOneIsBad) {
+  const fs::path out = dir_ / "reports";
+  const std::string good = Write("good.toml", SmallSuite(""));
+  std::string bad_text = SmallSuite("");
+  bad_text.replace(bad_text.find("name = \"small\""), 14, "name = \"other\"");
+  bad_text.replace(bad_text.find("/gaits/networks"), 15, "/gaits/nowhere");
+  const std::string bad = Write("bad.toml", bad_text);
+  const CliRun r = RunCli("run " + good + " " + bad + " --no-html --out " + out.string());
+  EXPECT_EQ(r.code, 2) << r.output;
+  EXPECT_FALSE(fs::exists(out / "small")) << "the good suite's report was written";
+  EXPECT_FALSE(fs::exists(out / "other"));
+  ASSERT_EQ(RunCli("run " + good + " " + good + " --no-html -q --out " + out.string()).code, 2);
+}
+
 TEST_F(CliTest, RunBadInputExitsTwoAndLeavesNoReport) {
   const fs::path out = dir_ / "report";
   const std::vector<std::pair<std::string, std::string>> cases = {

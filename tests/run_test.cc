@@ -25,7 +25,7 @@ std::vector<std::string> DeterministicRows(const Suite& suite, const std::string
   const std::vector<BatchJob> jobs = PlanBatch(suite, filter);
   std::vector<std::string> rows(jobs.size());
   if (runs != nullptr) runs->resize(jobs.size());
-  RunBatch(jobs, threads, [&](size_t i, RunOutput&& run) {
+  RunBatch(jobs, threads, nullptr, [&](size_t i, RunOutput&& run) {
     run.wall = 0.0;  // the only non-deterministic figure
     rows[i] = SummaryRow(suite.name, run);
     if (runs != nullptr) (*runs)[i] = std::move(run);
@@ -150,6 +150,32 @@ TEST(RunMetricsTest, EnergyAndCostOfTransport) {
               1e-12);
   EXPECT_GT(r.metrics.distance, 4.0);
   EXPECT_GT(r.metrics.steps, 10);
+}
+
+TEST(RunMetricsTest, DistanceIsTravelAndRunningOutOfTimeFails) {
+  // Standing (pd_hold) from x = 3 m with distance = 1 m: the robot never travels 1 m, so the run
+  // lasts its whole time limit and fails; it must not stop at once because x >= 1.
+  Scenario s = LoadScenario(kRoot + "/scenarios/standing_pd_hold.toml");
+  s.q0[kX] += 3.0;
+  s.options.duration = 1.0;
+  s.options.stop_distance = 1.0;
+  RunOutput r = RunScenario(s, ScenarioVariants(s).front(), nullptr);
+  EXPECT_EQ(r.sim.outcome, Outcome::kCompleted);
+  EXPECT_NEAR(r.sim.t_end, 1.0, 1e-9);
+  EXPECT_FALSE(r.passed);
+  ASSERT_FALSE(r.failures.empty());
+  EXPECT_NE(r.failures.back().find("before the time limit"), std::string::npos) << r.failures[0];
+}
+
+TEST(RunMetricsTest, NoVelocityProfileNoSpeedError) {
+  // A pragmatic walk names no V_d: the steps carry none and no speed error is invented.
+  Scenario s = LoadScenario(kRoot + "/scenarios/walk_pragmatic_0.60.toml");
+  s.options.duration = 4.0;
+  ASSERT_FALSE(s.has_velocity);
+  const RunOutput r = RunScenario(s, "pragmatic", nullptr);
+  ASSERT_GT(r.steps.size(), 3u);
+  EXPECT_TRUE(std::isnan(r.steps[2].v_d));
+  EXPECT_TRUE(std::isnan(r.metrics.mean_abs_speed_error));
 }
 
 // A run with hand-made steps for the criteria.

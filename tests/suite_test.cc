@@ -198,6 +198,30 @@ TEST_F(SuiteTest, FamilyErrors) {
               20, "family[1].vary.terrain.obstacles.1.x_start.foo", "not a table");
 }
 
+TEST_F(SuiteTest, ReviewFindings) {
+  // Names taken by the report's own files.
+  ExpectError(Walker("[[scenario]]\nname = \"summary.csv\"\n"), 13, "scenario[1].name",
+              "taken by the report");
+  // A constant profile with both a value and points.
+  ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.velocity]\nvalue = 0.5\n"
+                     "points = [[0, 0.6]]\n"),
+              -1, "scenario[1].velocity.points", "not both");
+  // Two families of one name, found before either expands.
+  const std::string family = "[[family]]\nname = \"f\"\ncount = 2\n";
+  ExpectError(Walker(family + family), 16, "family[2].name", "two families named");
+  // The suite's total is bounded (cheap scenarios: 3 x 10000 > 20000).
+  const std::string big =
+      "[[family]]\nname = \"%\"\ncount = 10000\n[family.scenario]\n[family.scenario.simulation]\n"
+      "duration = 1.0\n[family.scenario.initial]\ny = 0.9\n";
+  std::string text;
+  for (const char* n : {"a", "b", "c"}) {
+    std::string f = big;
+    f.replace(f.find('%'), 1, n);
+    text += f;
+  }
+  ExpectError(text, -1, "family[3].count", "more than 20000 scenarios");
+}
+
 TEST_F(SuiteTest, AScenarioFileIsASuiteOfOne) {
   const Suite suite = LoadSuite(kRoot + "/scenarios/standing_pd_hold.toml");
   ASSERT_EQ(suite.scenarios.size(), 1u);

@@ -63,10 +63,12 @@ struct SuiteOutcome {
   double simulated = 0.0;
 };
 
+// Runs a suite into its staging folder (guard->path); the caller renames it into place once every
+// suite has succeeded.
 SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& jobs,
-                         const fs::path& out_dir, const RunArgs& args) {
-  const fs::path staging = out_dir.string() + ".partial-" + std::to_string(::getpid());
-  StagingGuard guard{staging};
+                         const fs::path& out_dir, const RunArgs& args, GaitLibraryCache* libraries,
+                         StagingGuard* guard) {
+  const fs::path staging = guard->path;
   fs::remove_all(staging);
   fs::create_directories(staging);
   const bool terminal = !args.quiet && ::isatty(STDERR_FILENO) != 0;
@@ -75,7 +77,8 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& jobs,
   size_t done = 0;
   SuiteOutcome outcome;
   const auto start = std::chrono::steady_clock::now();
-  RunBatch(jobs, args.jobs, [&](size_t i, RunOutput&& run) {
+  const int threads = BatchThreads(jobs, args.jobs);
+  RunBatch(jobs, threads, libraries, [&](size_t i, RunOutput&& run) {
     WriteRunFiles(*jobs[i].scenario, run, staging.string());
     rows[i] = SummaryRow(suite.name, run);
     outcome.simulated += run.sim.t_end;
@@ -108,10 +111,6 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& jobs,
     WriteSuiteReport(staging.string(), report, &warnings);
   }
   for (const std::string& w : warnings) std::cerr << "rabbit run: warning: " << w << "\n";
-  if (fs::exists(out_dir)) fs::remove_all(out_dir);
-  fs::create_directories(out_dir.parent_path().empty() ? "." : out_dir.parent_path());
-  fs::rename(staging, out_dir);
-  guard.keep = true;
 
   outcome.runs = static_cast<int>(jobs.size());
   for (size_t i = 0; i < jobs.size(); ++i) {
@@ -123,8 +122,7 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& jobs,
     std::printf(
         "suite      %s (%s): %zu runs in %.1f s wall on %d threads (%.1f runs/min, %.0fx "
         "real time)\n",
-        suite.name.c_str(), suite.file.c_str(), jobs.size(), wall,
-        args.jobs > 0 ? args.jobs : static_cast<int>(std::thread::hardware_concurrency()),
+        suite.name.c_str(), suite.file.c_str(), jobs.size(), wall, threads,
         wall > 0 ? 60.0 * static_cast<double>(jobs.size()) / wall : 0.0,
         wall > 0 ? outcome.simulated / wall : 0.0);
     std::printf("%-34s %-10s %-6s %6s %8s %9s %8s\n", "run", "outcome", "pass", "steps", "dist m",
@@ -192,8 +190,29 @@ int RunRun(RunArgs args) {
     }
     outs.push_back(out);
   }
+  // Every gait library loads now: a bad gait pattern is bad input, found before anything runs.
+  GaitLibraryCache libraries;
+  for (const std::vector<BatchJob>& plan : plans) {
+    for (const BatchJob& job : plan) {
+      if (job.scenario->controller == ControllerKind::kFuzzyCmac) {
+        libraries.Get(job.scenario->pattern);
+      }
+    }
+  }
+  // All suites run into staging folders; only when every one succeeded are they renamed into
+  // place, so a failure in a later suite leaves every earlier report as it was.
+  std::vector<std::unique_ptr<StagingGuard>> staged;
   for (size_t i = 0; i < suites.size(); ++i) {
-    failed += RunOneSuite(suites[i], plans[i], outs[i], args).failed_required;
+    staged.push_back(std::make_unique<StagingGuard>(
+        StagingGuard{outs[i].string() + ".partial-" + std::to_string(::getpid())}));
+    failed += RunOneSuite(suites[i], plans[i], outs[i], args, &libraries, staged.back().get())
+                  .failed_required;
+  }
+  for (size_t i = 0; i < suites.size(); ++i) {
+    if (fs::exists(outs[i])) fs::remove_all(outs[i]);
+    fs::create_directories(outs[i].parent_path().empty() ? "." : outs[i].parent_path());
+    fs::rename(staged[i]->path, outs[i]);
+    staged[i]->keep = true;
   }
   if (failed > 0) {
     std::cerr << "rabbit run: " << failed << " required scenario(s) failed their criteria\n";

@@ -4,6 +4,7 @@
 #include <exception>
 #include <mutex>
 #include <regex>
+#include <system_error>
 #include <thread>
 
 #include "rabbit/io/error.h"
@@ -25,11 +26,16 @@ std::vector<BatchJob> PlanBatch(const Suite& suite, const std::string& filter) {
   return jobs;
 }
 
-void RunBatch(const std::vector<BatchJob>& jobs, int threads,
-              const std::function<void(size_t, RunOutput&&)>& on_done) {
+int BatchThreads(const std::vector<BatchJob>& jobs, int threads) {
   if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
-  threads = std::min<int>(threads, static_cast<int>(std::max<size_t>(1, jobs.size())));
-  GaitLibraryCache libraries;
+  return std::min<int>(threads, static_cast<int>(std::max<size_t>(1, jobs.size())));
+}
+
+void RunBatch(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCache* shared,
+              const std::function<void(size_t, RunOutput&&)>& on_done) {
+  threads = BatchThreads(jobs, threads);
+  GaitLibraryCache own;
+  GaitLibraryCache& libraries = shared != nullptr ? *shared : own;
   std::atomic<size_t> next{0};
   std::atomic<bool> stop{false};
   std::mutex mutex;
@@ -55,7 +61,13 @@ void RunBatch(const std::vector<BatchJob>& jobs, int threads,
     }
   };
   std::vector<std::thread> pool;
-  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  for (int t = 1; t < threads; ++t) {
+    try {
+      pool.emplace_back(worker);
+    } catch (const std::system_error&) {
+      break;  // no more threads to be had: the ones running (and this one) do the work
+    }
+  }
   worker();
   for (std::thread& t : pool) t.join();
   if (error) std::rethrow_exception(error);

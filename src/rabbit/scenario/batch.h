@@ -26,8 +26,12 @@ std::vector<BatchJob> PlanBatch(const Suite& suite, const std::string& filter);
 // finished run calls on_done(job index, run) from the worker thread that ran it, serialised by a
 // mutex (so it may write files and print). Stops taking new jobs after an exception in a run or
 // in on_done, and rethrows the first one once all threads have finished.
-void RunBatch(const std::vector<BatchJob>& jobs, int threads,
+// `libraries` (may be null: a private cache) holds the gait libraries of walker scenarios.
+void RunBatch(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCache* libraries,
               const std::function<void(size_t, RunOutput&&)>& on_done);
+
+// The threads RunBatch uses for these jobs when asked for `threads` (0: all cores).
+int BatchThreads(const std::vector<BatchJob>& jobs, int threads);
 
 }  // namespace rabbit
 

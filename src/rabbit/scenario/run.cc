@@ -141,9 +141,10 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     }
     const double d_max = scenario.walker.d_obs_max;
     for (const StepRecord& s : controller.meter().steps()) {
-      out.steps.push_back({s, scenario.velocity.At(s.t_touchdown), s.v_m,
-                           ObstacleDistance(scenario.terrain, s.x, d_max), rules.q0_d, weights,
-                           "", false});
+      const double v_d = scenario.has_velocity ? scenario.velocity.At(s.t_touchdown)
+                                               : std::numeric_limits<double>::quiet_NaN();
+      out.steps.push_back({s, v_d, s.v_m, ObstacleDistance(scenario.terrain, s.x, d_max),
+                           rules.q0_d, weights, "", false});
     }
   } else {
     std::unique_ptr<Controller> controller = MakeController(scenario);
@@ -212,6 +213,13 @@ void EvaluateCriteria(const Scenario& scenario, RunOutput* run) {
   if (run->metrics.steps < c.min_steps) {
     std::snprintf(text, sizeof text, "%d steps (at least %d required)", run->metrics.steps,
                   c.min_steps);
+    fail.push_back(text);
+  }
+  const double stop = scenario.options.stop_distance;
+  if (std::isfinite(stop) && run->sim.outcome == Outcome::kCompleted &&
+      !(run->metrics.distance >= stop)) {
+    std::snprintf(text, sizeof text, "walked %.2f m of its %.2f m before the time limit (%.0f s)",
+                  run->metrics.distance, stop, scenario.options.duration);
     fail.push_back(text);
   }
   if (c.min_distance > 0.0 && !(run->metrics.distance >= c.min_distance)) {

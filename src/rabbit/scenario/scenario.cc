@@ -283,6 +283,7 @@ VelocityProfile ReadVelocity(TomlReader t) {
   }
   v.points.clear();
   if (v.kind == VelocityProfile::Kind::kConstant && t.Has("value")) {
+    if (t.Has("points")) t.Fail("points", "a constant profile takes value or points, not both");
     v.points.push_back({0.0, t.Double("value", 0.0)});
   }
   for (const std::vector<double>& row : t.DoubleRows("points", 2)) {
@@ -467,6 +468,9 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name) {
   if (!IsSafeName(s.name)) {
     root.Fail("name", "use letters, digits, '.', '_' and '-' only (it names the output folder)");
   }
+  if (s.name == "summary.csv" || s.name == "index.html" || s.name[0] == '.') {
+    root.Fail("name", "\"" + s.name + "\" is taken by the report's own files");
+  }
   s.description = root.String("description", "");
   s.expected_outcome = root.String("expect_outcome", "");
   if (!s.expected_outcome.empty() && s.expected_outcome != "completed" &&
@@ -485,7 +489,8 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name) {
   ReadFall(root.Table("fall"), &s.options.fall);
   s.pushes = ReadPushes(&root);
   s.criteria = ReadCriteria(root.Table("criteria"));
-  if (root.Has("velocity")) s.velocity = ReadVelocity(root.WholeTable("velocity"));
+  s.has_velocity = root.Has("velocity");
+  if (s.has_velocity) s.velocity = ReadVelocity(root.WholeTable("velocity"));
   TomlReader noise = root.Table("noise");
   s.walker.v_m_noise = noise.Double("v_m_std", 0.0);
   s.walker.d_obs_noise = noise.Double("d_obs_std", 0.0);

@@ -71,6 +71,7 @@ struct Scenario {
   std::vector<std::string> baselines;
   // The desired velocity V_d(t) (for every walking controller; the baselines only report it).
   VelocityProfile velocity;
+  bool has_velocity = false;  // the file gave one (else V_d is not reported: nan)
   std::vector<TrunkPush> pushes;
   PassCriteria criteria;
   bool required = true;  // false: its failures are reported but do not fail the suite

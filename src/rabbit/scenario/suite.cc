@@ -14,6 +14,7 @@ namespace rabbit {
 namespace {
 
 constexpr long kMaxFamilyCount = 10000;
+constexpr size_t kMaxSuiteScenarios = 20000;  // over all scenarios and families of a suite
 
 // Splits "a.b.1.c" into its parts.
 std::vector<std::string> SplitPath(const std::string& path) {
@@ -138,12 +139,19 @@ Suite LoadSuite(const std::string& path) {
     suite.scenarios.push_back(
         ReadScenario(TomlReader::FromLayers(s.owners(), layers, path, s.prefix(), s.line()), ""));
   }
+  std::set<std::string> family_names;
   for (TomlReader& f : root.TableArray("family")) {
     const std::string name = f.String("name", "");
     if (!IsSafeName(name))
       f.Fail("name", "a family needs a name of letters, digits, '.', '_', '-'");
+    if (name.size() > 96) f.Fail("name", "at most 96 characters (members add -000)");
+    if (!family_names.insert(name).second) f.Fail("name", "two families named \"" + name + "\"");
     const long count = f.Integer("count", 0, 1, kMaxFamilyCount);
     if (!f.Has("count")) f.Fail("", "missing required key 'count'");
+    if (suite.scenarios.size() + static_cast<size_t>(count) > kMaxSuiteScenarios) {
+      f.Fail("count",
+             "the suite would hold more than " + std::to_string(kMaxSuiteScenarios) + " scenarios");
+    }
     const auto seed =
         static_cast<std::uint64_t>(f.Integer("seed", 1, 0, std::numeric_limits<long>::max()));
     TomlReader templ = f.Table("scenario");

@@ -302,7 +302,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       obs.foot_contact[leg] = s.foot_force[leg].fn > 0.0;
     }
     alive = alive && CheckState(setup, s, ComputePose(model, s.q, sample_data), &result);
-    const bool reached = alive && s.q[kX] >= opt.stop_distance;
+    const bool reached = alive && s.q[kX] - q0[kX] >= opt.stop_distance;
     // Energies only for the samples kept (a run that records nothing, like a synthesis
     // candidate, skips them).
     const bool record = opt.record_every > 0 &&

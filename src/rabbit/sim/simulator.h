@@ -36,7 +36,7 @@ struct SimOptions {
   bool restart_at_samples = true;
   int max_events_per_period = 100;  // more means chattering: the run ends as diverged
   int record_every = 1;             // keep every n-th sample in the result (0 = none)
-  // End the run (as completed) at the first sample where the hip is at or beyond this x (m).
+  // End the run (as completed) at the first sample where the hip has travelled this far in x (m).
   double stop_distance = std::numeric_limits<double>::infinity();
   IntegratorOptions integrator;
   FallCriteria fall;
