@@ -284,7 +284,7 @@ TEST_F(CliTest, RunExitsOneWhenARequiredScenarioFailsItsCriteria) {
       Write("fail.toml", SmallSuite("[scenario.criteria]\nmin_steps = 40\n"));
   const CliRun r = RunCli("run " + failing + " --no-html --out " + out.string());
   EXPECT_EQ(r.code, 1) << r.output;
-  EXPECT_NE(r.output.find("steps (at least 40 required)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("steps after the warm-up (at least 40 required)"), std::string::npos) << r.output;
   EXPECT_TRUE(fs::exists(out / "summary.csv"));  // the report is still written
   const std::string optional =
       Write("optional.toml", SmallSuite("required = false\n[scenario.criteria]\nmin_steps = 40\n"));

@@ -199,6 +199,14 @@ TEST_F(SuiteTest, FamilyErrors) {
 }
 
 TEST_F(SuiteTest, ReviewFindings) {
+  // A scenario may change the controller type of its defaults: their keys do not leak in.
+  const Suite mixed = LoadSuite(Write(
+      Walker("[[scenario]]\nname = \"hold\"\n[scenario.initial]\ny = 0.9\n[scenario.controller]\n"
+             "type = \"pd_hold\"\nkp = 300\n[[scenario]]\nname = \"walk\"\n")));
+  ASSERT_EQ(mixed.scenarios.size(), 2u);
+  EXPECT_EQ(mixed.scenarios[0].controller, ControllerKind::kPdHold);
+  EXPECT_DOUBLE_EQ(mixed.scenarios[0].pd_hold.kp[0], 300.0);
+  EXPECT_EQ(mixed.scenarios[1].controller, ControllerKind::kFuzzyCmac);
   // Names taken by the report's own files.
   ExpectError(Walker("[[scenario]]\nname = \"summary.csv\"\n"), 13, "scenario[1].name",
               "taken by the report");

@@ -195,11 +195,16 @@ std::vector<std::string> TomlReader::Strings(const std::string& key,
 }
 
 TomlReader TomlReader::Table(const std::string& key) {
+  return TableFromLayers(key, layers_.size());
+}
+
+TomlReader TomlReader::TableFromLayers(const std::string& key, size_t layers) {
   known_.insert(key);
   std::vector<const toml::table*> tables;
   int line = line_;
   bool first = true;
-  for (const toml::table* layer : layers_) {
+  for (size_t i = 0; i < layers && i < layers_.size(); ++i) {
+    const toml::table* layer = layers_[i];
     const toml::node* node = layer->get(key);
     if (node == nullptr) continue;
     const auto* table = node->as_table();

@@ -54,6 +54,8 @@ class TomlReader {
   // A sub-table taken whole from the first layer that has it (no merging with lower layers): for
   // tables that only make sense as a whole, like a velocity profile.
   TomlReader WholeTable(const std::string& key);
+  // A sub-table merged over the first `layers` layers only (the lower ones are ignored for it).
+  TomlReader TableFromLayers(const std::string& key, size_t layers);
   // An array of tables ([[key]]); empty when missing.
   std::vector<TomlReader> TableArray(const std::string& key);
 

@@ -17,8 +17,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-const char* const kMainVariant = "fuzzy_cmac";
-
 std::vector<std::string> SplitOn(const std::string& text, char separator) {
   std::vector<std::string> out;
   std::string cell;
@@ -37,9 +35,7 @@ bool IsSafeFolderName(const std::string& name) {
 
 }  // namespace
 
-bool IsMainVariant(const std::string& variant) {
-  return variant == kMainVariant || variant == "main";
-}
+bool IsMainRun(const SummaryRow& row) { return row.run == row.scenario; }
 
 std::vector<SummaryRow> ReadSummary(const std::string& path) {
   const CsvTable table = CsvTable::Read(path);
@@ -289,7 +285,7 @@ std::vector<ScenarioGroup> GroupByScenario(const std::vector<RunData>& runs) {
   }
   for (ScenarioGroup& g : groups) {
     std::stable_partition(g.runs.begin(), g.runs.end(),
-                          [&runs](size_t k) { return IsMainVariant(runs[k].row.variant); });
+                          [&runs](size_t k) { return IsMainRun(runs[k].row); });
   }
   return groups;
 }
@@ -306,6 +302,17 @@ std::string VariantShortLabel(const std::string& variant) {
   if (variant == "pragmatic") return "pragmatic";
   if (variant == "nearest_gait") return "nearest gait";
   return VariantLabel(variant);
+}
+
+std::string RunLabel(const SummaryRow& row) {
+  if (!IsMainRun(row)) return VariantLabel(row.variant);
+  if (row.variant == "pragmatic") return "pragmatic rules";
+  if (row.variant == "pd_hold") return "PD hold";
+  return VariantLabel(row.variant);
+}
+
+std::string RunShortLabel(const SummaryRow& row) {
+  return IsMainRun(row) ? RunLabel(row) : VariantShortLabel(row.variant);
 }
 
 std::string VariantColor(const std::string& variant) {

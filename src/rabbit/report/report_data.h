@@ -65,9 +65,9 @@ struct RunData {
   std::vector<Obstacle> obstacles;
 };
 
-// The variant a scenario's figures are drawn for: the walker, or "main" (a scenario whose
-// controller is not the walker); baselines are overlaid on it.
-bool IsMainVariant(const std::string& variant);
+// The run a scenario's figures are drawn for (its main variant: the run named after the scenario,
+// whatever its controller); baselines are overlaid on it.
+bool IsMainRun(const SummaryRow& row);
 
 struct ScenarioGroup {
   std::string name;
@@ -90,6 +90,9 @@ std::vector<ScenarioGroup> GroupByScenario(const std::vector<RunData>& runs);
 // Naming and colouring variants.
 
 std::string VariantLabel(const std::string& variant);
+// A run's label: the variant's, without "(baseline)" for a scenario's main run.
+std::string RunLabel(const SummaryRow& row);
+std::string RunShortLabel(const SummaryRow& row);
 // The same without "(baseline)", for the summary table (where baselines are in italics).
 std::string VariantShortLabel(const std::string& variant);
 std::string VariantColor(const std::string& variant);

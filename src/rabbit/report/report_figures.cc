@@ -3,6 +3,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <iterator>
 #include <limits>
@@ -213,11 +214,13 @@ size_t StickDiagramFigure(const RunData& run, const Window& w, const SuiteReport
 size_t StepsFigure(const std::vector<const RunData*>& runs, bool with_obstacles,
                    const SuiteReportOptions& options, FigureSet* figures) {
   const RunData& main = *runs.front();
-  int step_lo = std::numeric_limits<int>::max(), step_hi = std::numeric_limits<int>::min();
+  // 64 bits: a step index may be INT_MAX in a hand-written steps.csv.
+  std::int64_t step_lo = std::numeric_limits<std::int64_t>::max();
+  std::int64_t step_hi = std::numeric_limits<std::int64_t>::min();
   for (const RunData* run : runs) {
     for (const Step& s : run->steps) {
-      step_lo = std::min(step_lo, s.step);
-      step_hi = std::max(step_hi, s.step);
+      step_lo = std::min<std::int64_t>(step_lo, s.step);
+      step_hi = std::max<std::int64_t>(step_hi, s.step);
     }
   }
   if (step_hi <= step_lo) step_hi = step_lo + 1;
@@ -245,7 +248,8 @@ size_t StepsFigure(const std::vector<const RunData*>& runs, bool with_obstacles,
   }
   std::ostringstream& s = figures->script();
   s << "set multiplot layout " << panels << ",1 margins 0.08,0.73,0.11,0.96 spacing 0,0.07\n"
-    << "set xrange [" << step_lo - 0.5 << ':' << step_hi + 0.5 << "]\n"
+    << "set xrange [" << static_cast<double>(step_lo) - 0.5 << ':'
+    << static_cast<double>(step_hi) + 0.5 << "]\n"
     << "set key outside right top vertical\nset format x '%g'\n";
   // The main variant drawn last (on top of its baselines, which share its first steps); the key,
   // inverted, lists it first and the baselines in summary order.
@@ -253,14 +257,14 @@ size_t StepsFigure(const std::vector<const RunData*>& runs, bool with_obstacles,
     for (size_t v = runs.size(); v-- > 0;) {
       s << data[v] << " using 1:" << column << " with linespoints pt 7 ps 0.45 lw 1.4 lc rgb '"
         << VariantColor(runs[v]->row.variant) << "' title "
-        << GnuplotQuote(std::string(what) + ", " + VariantLabel(runs[v]->row.variant))
-        << " noenhanced" << (v == 0 ? "" : ", \\\n  ");
+        << GnuplotQuote(std::string(what) + ", " + RunLabel(runs[v]->row)) << " noenhanced"
+        << (v == 0 ? "" : ", \\\n  ");
     }
   };
   s << "set key invert\nset ylabel 'velocity (m/s)'\nunset xlabel\nplot ";
   series(3, "V_M");
   s << ", \\\n  " << data[0] << " using 1:2 with steps lw 1.6 dt 2 lc rgb '#000000' title "
-    << GnuplotQuote("V_d, " + VariantLabel(main.row.variant)) << " noenhanced\n";
+    << GnuplotQuote("V_d, " + RunLabel(main.row)) << " noenhanced\n";
   s << "set ylabel 'L_{step} (m)'\n" << (panels == 2 ? "set xlabel 'step'\n" : "") << "plot ";
   series(4, "L_step");
   s << '\n';
@@ -268,7 +272,7 @@ size_t StepsFigure(const std::vector<const RunData*>& runs, bool with_obstacles,
     s << "set ylabel 'd_{obs} (m)'\nset xlabel 'step'\nset yrange [0:*]\nplot " << data[0]
       << " using 1:5 with linespoints pt 7 ps 0.45 lw 1.4 lc rgb '"
       << VariantColor(main.row.variant) << "' title "
-      << GnuplotQuote("d_obs, " + VariantLabel(main.row.variant)) << " noenhanced\n";
+      << GnuplotQuote("d_obs, " + RunLabel(main.row)) << " noenhanced\n";
   }
   s << "unset multiplot\n";
   return k;
@@ -324,7 +328,9 @@ size_t TrackingFigure(const RunData& run, const Window& w, const SuiteReportOpti
 size_t WeightsFigure(const RunData& run, const SuiteReportOptions& options, FigureSet* figures) {
   const size_t n = run.weight_names.size();
   std::ostringstream d;
-  int step_lo = std::numeric_limits<int>::max(), step_hi = std::numeric_limits<int>::min();
+  // 64 bits: a step index may be INT_MAX in a hand-written steps.csv.
+  std::int64_t step_lo = std::numeric_limits<std::int64_t>::max();
+  std::int64_t step_hi = std::numeric_limits<std::int64_t>::min();
   for (const Step& s : run.steps) {
     d << s.step;
     double sum = 0.0;
@@ -333,8 +339,8 @@ size_t WeightsFigure(const RunData& run, const SuiteReportOptions& options, Figu
       d << ' ' << DataNumber(sum);
     }
     d << '\n';
-    step_lo = std::min(step_lo, s.step);
-    step_hi = std::max(step_hi, s.step);
+    step_lo = std::min<std::int64_t>(step_lo, s.step);
+    step_hi = std::max<std::int64_t>(step_hi, s.step);
   }
   const size_t k = figures->Begin(
       options.figure_width, 330,
@@ -343,7 +349,8 @@ size_t WeightsFigure(const RunData& run, const SuiteReportOptions& options, Figu
       "fuzzy weights per step of " + run.row.run);
   const std::string data = figures->AddData(d.str());
   std::ostringstream& s = figures->script();
-  s << "set xrange [" << step_lo - 0.5 << ':' << step_hi + 0.5 << "]\nset yrange [0:1.02]\n"
+  s << "set xrange [" << static_cast<double>(step_lo) - 0.5 << ':'
+    << static_cast<double>(step_hi) + 0.5 << "]\nset yrange [0:1.02]\n"
     << "set lmargin at screen 0.08\nset rmargin at screen 0.73\n"
     << "set key outside right top vertical\nset boxwidth 0.9 relative\n"
     << "set style fill solid 1.0 noborder\nset xlabel 'step'\nset ylabel 'weight w_{Ok}'\n"

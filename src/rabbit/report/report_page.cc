@@ -240,8 +240,8 @@ std::string ReplayHtml(const RunData& run, size_t index, const SuiteReportOption
   std::ostringstream html;
   html << "<div class=\"replay\" id=\"replay-" << index << "\"><h4><span class=\"swatch\" "
        << "style=\"background:" << VariantColor(run.row.variant) << "\"></span>"
-       << HtmlEscape(VariantLabel(run.row.variant)) << " &mdash; run <code>"
-       << HtmlEscape(run.row.run) << "</code>, " << HtmlEscape(run.row.outcome) << "</h4>"
+       << HtmlEscape(RunLabel(run.row)) << " &mdash; run <code>" << HtmlEscape(run.row.run)
+       << "</code>, " << HtmlEscape(run.row.outcome) << "</h4>"
        << "<canvas width=\"1000\" height=\"360\"></canvas><div class=\"controls\">"
        << "<button type=\"button\" class=\"play\">Play</button>"
        << "<input type=\"range\" class=\"seek\" min=\"0\" max=\"0\" step=\"1\" value=\"0\" "
@@ -281,10 +281,9 @@ std::string SummaryTable(const std::vector<RunData>& runs,
         html << "<td class=\"scenario\" rowspan=\"" << rows << "\"><a href=\"#scenario-" << g
              << "\">" << HtmlEscape(group.name) << "</a></td>";
       }
-      html << "<td class=\"variant" << (IsMainVariant(r.variant) ? "" : " baseline")
+      html << "<td class=\"variant" << (IsMainRun(r) ? "" : " baseline")
            << "\"><span class=\"swatch\" style=\"background:" << VariantColor(r.variant)
-           << "\"></span>" << HtmlEscape(VariantShortLabel(r.variant))
-           << "</td><td class=\"status\">"
+           << "\"></span>" << HtmlEscape(RunShortLabel(r)) << "</td><td class=\"status\">"
            << (r.passed ? "&#10003;&nbsp;pass" : "&#10007;&nbsp;fail") << "</td><td class=\"text\">"
            << HtmlEscape(r.outcome);
       if (!r.reason.empty()) html << "<div class=\"reason\">" << HtmlEscape(r.reason) << "</div>";
@@ -311,8 +310,8 @@ std::string SummaryTable(const std::vector<RunData>& runs,
 
 std::string StepsTable(const RunData& run) {
   std::ostringstream html;
-  html << "<details><summary>Steps of " << HtmlEscape(VariantLabel(run.row.variant)) << " ("
-       << run.steps.size() << ")</summary><div class=\"table-wrap\"><table><thead><tr>"
+  html << "<details><summary>Steps of " << HtmlEscape(RunLabel(run.row)) << " (" << run.steps.size()
+       << ")</summary><div class=\"table-wrap\"><table><thead><tr>"
        << "<th>step</th><th>leg</th><th>t<br>s</th><th>V<sub>d</sub><br>m/s</th>"
        << "<th>V<sub>M</sub><br>m/s</th><th>L<sub>step</sub><br>m</th>"
        << "<th>t<sub>step</sub><br>s</th><th>d<sub>obs</sub><br>m</th>"

@@ -32,6 +32,7 @@ using report_internal::ReadRun;
 using report_internal::ReadSummary;
 using report_internal::ReplayHtml;
 using report_internal::RunData;
+using report_internal::RunLabel;
 using report_internal::ScenarioGroup;
 using report_internal::StartWindow;
 using report_internal::Step;
@@ -43,7 +44,6 @@ using report_internal::SummaryTable;
 using report_internal::TerrainText;
 using report_internal::TrackingFigure;
 using report_internal::Trajectory;
-using report_internal::VariantLabel;
 using report_internal::WeightsFigure;
 using report_internal::Window;
 
@@ -215,9 +215,9 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
     html << "<p class=\"note\">Terrain: " << TerrainText(main.obstacles) << ". Runs: ";
     for (size_t i = 0; i < group.runs.size(); ++i) {
       const SummaryRow& r = runs[group.runs[i]].row;
-      html << (i == 0 ? "" : "; ") << HtmlEscape(VariantLabel(r.variant)) << " <code>"
-           << HtmlEscape(r.run) << "</code> " << (r.passed ? "passed" : "failed") << " ("
-           << HtmlEscape(r.outcome) << ")";
+      html << (i == 0 ? "" : "; ") << HtmlEscape(RunLabel(r)) << " <code>" << HtmlEscape(r.run)
+           << "</code> " << (r.passed ? "passed" : "failed") << " (" << HtmlEscape(r.outcome)
+           << ")";
     }
     html << ".</p>\n";
     if (have_figures) {

@@ -210,9 +210,12 @@ void EvaluateCriteria(const Scenario& scenario, RunOutput* run) {
     fail.push_back("outcome " + outcome + " (expected " + scenario.expected_outcome + ")" +
                    (run->sim.reason.empty() ? "" : ": " + run->sim.reason));
   }
-  if (run->metrics.steps < c.min_steps) {
-    std::snprintf(text, sizeof text, "%d steps (at least %d required)", run->metrics.steps,
-                  c.min_steps);
+  // Steps of the scenario's own controller: the warm-up's pragmatic steps do not count.
+  int own_steps = 0, warmup_steps = 0;
+  for (const StepRow& s : run->steps) (s.warmup ? warmup_steps : own_steps) += 1;
+  if (own_steps < c.min_steps) {
+    std::snprintf(text, sizeof text, "%d steps%s (at least %d required)", own_steps,
+                  warmup_steps > 0 ? " after the warm-up" : "", c.min_steps);
     fail.push_back(text);
   }
   const double stop = scenario.options.stop_distance;

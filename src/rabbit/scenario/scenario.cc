@@ -411,11 +411,37 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
     }
   }
   t->Finish();
-  // The velocity profile's q0_d range check happens in IsValid; clamp the start into the range.
+  // The start gait's pitch (the default q0_d_initial) is clamped into the range; a given one must
+  // lie in it.
   std::string error;
   if (!(w.q0_d_min <= w.q0_d_max)) t->Fail("q0_d_min_deg", "must be <= q0_d_max_deg");
-  w.q0_d_initial = std::clamp(w.q0_d_initial, w.q0_d_min, w.q0_d_max);
+  if (t->Has("q0_d_initial_deg") &&
+      !(w.q0_d_initial >= w.q0_d_min && w.q0_d_initial <= w.q0_d_max)) {
+    t->Fail("q0_d_initial_deg", "must lie in [q0_d_min_deg, q0_d_max_deg]");
+  }
+  w.q0_d_initial = std::clamp(w.q0_d_initial, w.q0_d_min, w.q0_d_max);  // the start gait's pitch
   if (!w.IsValid(&error)) t->Fail("", error);
+}
+
+// [controller], merged over the layers (a suite's scenario over its defaults) unless a layer names
+// a different `type` than a lower one: then it is read from the layers above that lower one only,
+// since the lower layers' keys belong to another controller.
+TomlReader ControllerTable(TomlReader* root) {
+  const std::vector<const toml::table*>& layers = root->layers();
+  std::string type;
+  for (size_t i = 0; i < layers.size(); ++i) {
+    const toml::node* table = layers[i]->get("controller");
+    const toml::node* node =
+        table != nullptr && table->is_table() ? table->as_table()->get("type") : nullptr;
+    if (node == nullptr || !node->is_string()) continue;
+    const std::string here = node->as_string()->get();
+    if (type.empty()) {
+      type = here;
+    } else if (here != type) {
+      return root->TableFromLayers("controller", i);
+    }
+  }
+  return root->Table("controller");
 }
 
 }  // namespace
@@ -498,7 +524,7 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name) {
   if (s.walker.v_m_noise < 0.0) noise.Fail("v_m_std", "must be >= 0");
   if (s.walker.d_obs_noise < 0.0) noise.Fail("d_obs_std", "must be >= 0");
   s.walker.seed = s.seed;
-  TomlReader controller = root.Table("controller");
+  TomlReader controller = ControllerTable(&root);
   const std::string type = controller.String("type", "passive");
   if (type != "passive" && type != "pd_hold" && type != "pragmatic" && type != "fuzzy_cmac") {
     controller.Fail("type", "unknown controller \"" + type +

@@ -320,7 +320,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       SaturationRegion region;
       s.tau[j] = SaturateTorque(setup.actuator, s.tau_cmd[j], s.qd[3 + j], &region);
       if (region != SaturationRegion::kNone) ++result.saturated_periods[j];
-      if (k < num_periods) {
+      if (alive && !reached && k < num_periods) {  // only when a period follows this sample
         result.positive_work += std::max(0.0, s.tau[j] * s.qd[3 + j]) * opt.control_period;
       }
     }
