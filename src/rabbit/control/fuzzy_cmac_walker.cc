@@ -291,6 +291,9 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   }
   if (warming_up_) {
     const Vec4 tau = warmup_.Compute(obs);
+    // The rules are in charge: their stance leg is the walker's (they exchange support on any
+    // landing, so after a scuff the two could differ at the handover).
+    stance_ = warmup_.stance_leg();
     if (p_.log_every > 0 && periods_ % p_.log_every == 0) {
       const int sw_hip = 3 + 2 * (1 - stance_);
       tracking_.push_back({obs.t, stance_, obs.q[3 + 2 * stance_], std::nan(""), obs.q[sw_hip],
