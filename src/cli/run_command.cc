@@ -59,7 +59,7 @@ struct StagingGuard {
 };
 
 struct SuiteOutcome {
-  int runs = 0, failed_required = 0;
+  int failed_required = 0;
   double simulated = 0.0;
 };
 
@@ -112,7 +112,6 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& jobs,
   }
   for (const std::string& w : warnings) std::cerr << "rabbit run: warning: " << w << "\n";
 
-  outcome.runs = static_cast<int>(jobs.size());
   for (size_t i = 0; i < jobs.size(); ++i) {
     const RunOutput& r = brief[i];
     const bool main_variant = r.run == jobs[i].scenario->name;

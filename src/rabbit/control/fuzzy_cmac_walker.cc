@@ -162,6 +162,10 @@ double FuzzyCmacWalker::Gaussian() {
   return std::sqrt(-2.0 * std::log(u1)) * std::cos(2.0 * M_PI * u2);
 }
 
+double FuzzyCmacWalker::ObstacleAhead(const Observation& obs, double x) const {
+  return obs.terrain != nullptr ? ObstacleDistance(*obs.terrain, x, p_.d_obs_max) : p_.d_obs_max;
+}
+
 void FuzzyCmacWalker::SetContext(double v_m, double d_obs) {
   pattern_.SetContext(v_m, d_obs);  // no rule firing keeps the previous weights
   if (p_.nearest_gait) pattern_.KeepStrongestRuleOnly();
@@ -188,8 +192,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     have_error_ = true;
   }
   const double front = obs.foot_pos[step.leg].x();
-  double d_obs =
-      obs.terrain != nullptr ? ObstacleDistance(*obs.terrain, front, p_.d_obs_max) : p_.d_obs_max;
+  double d_obs = ObstacleAhead(obs, front);
   if (p_.d_obs_noise > 0.0) {
     d_obs = std::clamp(d_obs + p_.d_obs_noise * Gaussian(), 0.0, p_.d_obs_max);
   }
@@ -210,7 +213,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   record.q0_d = q0_d_;
   record.weights = pattern_.gait_weights();
   record.activation = pattern_.rule_activations().activation;
-  record.walker_active = !warming_up_;
+  record.warmup = warming_up_;
   steps_.push_back(std::move(record));
 }
 
@@ -274,11 +277,7 @@ void FuzzyCmacWalker::ApplyLift(const Observation& obs, int sw_hip, Eigen::Vecto
 Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   if (periods_ == 0) {
     // The first step's context: the assumed V_M and the obstacle ahead of the stance foot.
-    const double d_obs =
-        obs.terrain != nullptr
-            ? ObstacleDistance(*obs.terrain, obs.foot_pos[stance_].x(), p_.d_obs_max)
-            : p_.d_obs_max;
-    SetContext(v_m_, d_obs);
+    SetContext(v_m_, ObstacleAhead(obs, obs.foot_pos[stance_].x()));
   }
   const int swing = 1 - stance_;
   if (meter_.Update(obs) && meter_.last_step().leg == swing &&

@@ -108,7 +108,7 @@ struct WalkerStep {
   double q0_d = 0.0;               // desired trunk pitch for the next step, rad
   std::vector<double> weights;     // per reference gait, summing to 1
   std::vector<double> activation;  // per rule (normalised)
-  bool walker_active = true;       // false during the pragmatic warm-up
+  bool warmup = false;             // walked by the warm-up's pragmatic rules (weights not used)
 };
 
 // One line of the tracking log.
@@ -138,6 +138,8 @@ class FuzzyCmacWalker final : public Controller {
   void OnTouchdown(const Observation& obs);
   void SetContext(double v_m, double d_obs);
   double Gaussian();
+  // d_obs seen from x (no terrain: no obstacle), before noise.
+  double ObstacleAhead(const Observation& obs, double x) const;
   // The foot lift's target height at foot abscissa x (0: none needed).
   double LiftHeight(const Terrain& terrain, double foot_x) const;
   // Adds the foot lift to the swing references ref (hip, knee, rates).

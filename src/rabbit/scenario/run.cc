@@ -125,7 +125,7 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     out.sim = Simulate(setup, scenario.q0, scenario.qd0, &controller);
     for (const WalkerStep& w : controller.steps()) {
       out.steps.push_back({w.step, w.v_d, w.v_m_used, w.d_obs, w.q0_d, w.weights,
-                           FiringRules(library->pattern.fis(), w.activation), !w.walker_active});
+                           FiringRules(library->pattern.fis(), w.activation), w.warmup});
     }
     out.tracking = controller.tracking();
   } else if (variant == "pragmatic") {
