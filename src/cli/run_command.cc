@@ -19,6 +19,7 @@
 #include "rabbit/report/run_files.h"
 #include "rabbit/report/suite_report.h"
 #include "rabbit/scenario/batch.h"
+#include "rabbit/scenario/params.h"
 #include "rabbit/scenario/suite.h"
 
 namespace rabbit::cli {
@@ -35,6 +36,7 @@ struct RunArgs {
   std::string out;
   int jobs = 0;
   std::string filter;
+  std::string params;
   bool quiet = false;
   bool html = true;
   SuiteReportOptions report;
@@ -151,7 +153,9 @@ int RunRun(RunArgs args) {
   if (args.suites.empty()) args.suites.push_back(DefaultSuite());
   // Load and plan everything first: bad input leaves nothing behind.
   std::vector<Suite> suites;
-  for (const std::string& path : args.suites) suites.push_back(LoadSuite(path));
+  ParamOverlay overlay;
+  if (!args.params.empty()) overlay = LoadParamOverlay(args.params);
+  for (const std::string& path : args.suites) suites.push_back(LoadSuite(path, &overlay));
   std::vector<std::vector<BatchJob>> plans;
   for (const Suite& s : suites) {
     plans.push_back(PlanBatch(s, args.filter));
@@ -234,6 +238,9 @@ Command RegisterRun(CLI::App* app) {
   cmd->add_option("--jobs,-j", args->jobs, "Threads (default: all cores)")
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--filter", args->filter, "Run only scenarios whose name matches this regex");
+  cmd->add_option("--params", args->params,
+                  "Parameter overlay (TOML [params], e.g. a tuning job's best.toml) over every "
+                  "scenario's settings");
   cmd->add_option("--gnuplot", args->report.gnuplot, "gnuplot executable for the figures");
   cmd->add_flag(
       "--no-html", [args](std::int64_t) { args->html = false; }, "Write the CSV files only");

@@ -12,6 +12,7 @@
 #include "rabbit/scenario/scenario.h"
 #include "rabbit/scenario/suite.h"
 #include "rabbit/scenario/trajectory_csv.h"
+#include "rabbit/scenario/params.h"
 #include "rabbit/sim/simulator.h"
 
 namespace rabbit::cli {
@@ -21,6 +22,7 @@ struct SimulateArgs {
   std::string scenario;
   std::string out;
   std::string integrator;
+  std::string params;
   bool quiet = false;
 };
 
@@ -29,7 +31,9 @@ int RunSimulate(const SimulateArgs& args) {
     throw InputError(args.scenario, 0, "",
                      "this is a suite of scenarios: run it with `rabbit run`");
   }
-  Scenario scenario = LoadScenario(args.scenario);
+  ParamOverlay overlay;
+  if (!args.params.empty()) overlay = LoadParamOverlay(args.params);
+  Scenario scenario = LoadScenario(args.scenario, &overlay);
   if (!args.integrator.empty()) {
     ParseIntegratorName(args.integrator, &scenario.options.integrator.kind);  // checked by CLI11
     std::string error;
@@ -93,6 +97,9 @@ Command RegisterSimulate(CLI::App* app) {
                   "Output CSV (default: reports/<scenario name>/trajectory.csv)");
   cmd->add_option("--integrator", args->integrator, "Override the scenario's integrator")
       ->check(CLI::IsMember({"arkode", "cvode", "cvode-adams"}));
+  cmd->add_option("--params", args->params,
+                  "Parameter overlay (TOML [params], e.g. a tuning job's best.toml) over the "
+                  "scenario's settings");
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but errors");
   return {cmd, [args] { return RunSimulate(*args); }};
 }

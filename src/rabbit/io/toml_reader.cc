@@ -39,6 +39,41 @@ TomlReader TomlReader::FromLayers(std::vector<std::shared_ptr<const toml::table>
   return TomlReader(std::move(owners), std::move(layers), std::move(file), std::move(prefix), line);
 }
 
+TomlReader TomlReader::WithPatches(
+    std::shared_ptr<const std::map<std::string, double>> patches) const {
+  TomlReader copy = *this;
+  copy.patches_ = std::move(patches);
+  copy.patches_used_ = std::make_shared<std::set<std::string>>();
+  return copy;
+}
+
+std::vector<std::string> TomlReader::UnusedPatches() const {
+  std::vector<std::string> unused;
+  if (patches_ == nullptr) return unused;
+  for (const auto& [path, value] : *patches_) {
+    if (patches_used_->count(path) == 0) unused.push_back(path);
+  }
+  return unused;
+}
+
+TomlReader TomlReader::Child(std::vector<const toml::table*> layers, std::string prefix, int line,
+                             std::string rel) const {
+  TomlReader child(owners_, std::move(layers), file_, std::move(prefix), line);
+  child.patches_ = patches_;
+  child.patches_used_ = patches_used_;
+  child.rel_ = std::move(rel);
+  return child;
+}
+
+const double* TomlReader::Patch(const std::string& key) const {
+  if (patches_ == nullptr) return nullptr;
+  const std::string path = rel_ + key;
+  const auto found = patches_->find(path);
+  if (found == patches_->end()) return nullptr;
+  patches_used_->insert(path);
+  return &found->second;
+}
+
 const toml::node* TomlReader::Find(const std::string& key) const {
   for (const toml::table* layer : layers_) {
     if (const toml::node* node = layer->get(key)) return node;
@@ -92,6 +127,10 @@ bool NumberOf(const toml::node& node, double* value) {
 }  // namespace
 
 double TomlReader::Double(const std::string& key, double default_value) {
+  if (const double* patch = Patch(key)) {
+    known_.insert(key);
+    return *patch;
+  }
   const toml::node* node = Node(key);
   if (node == nullptr) return default_value;
   double value = 0.0;
@@ -101,7 +140,7 @@ double TomlReader::Double(const std::string& key, double default_value) {
 }
 
 double TomlReader::RequiredDouble(const std::string& key) {
-  if (!Has(key)) {
+  if (!Has(key) && Patch(key) == nullptr) {
     known_.insert(key);
     Fail("", "missing required key '" + key + "'");
   }
@@ -109,6 +148,16 @@ double TomlReader::RequiredDouble(const std::string& key) {
 }
 
 long TomlReader::Integer(const std::string& key, long default_value, long min, long max) {
+  if (const double* patch = Patch(key)) {
+    known_.insert(key);
+    if (!(*patch == std::round(*patch) && *patch >= static_cast<double>(min) &&
+          *patch <= static_cast<double>(max))) {
+      Fail(key, "a parameter sets this integer setting to " + std::to_string(*patch) +
+                    ": expected an integer in [" + std::to_string(min) + ", " +
+                    std::to_string(max) + "]");
+    }
+    return static_cast<long>(*patch);
+  }
   const toml::node* node = Node(key);
   if (node == nullptr) return default_value;
   const auto* i = node->as_integer();
@@ -140,19 +189,24 @@ std::vector<double> TomlReader::Doubles(const std::string& key,
                                         const std::vector<double>& default_value,
                                         size_t size_required) {
   const toml::node* node = Node(key);
-  if (node == nullptr) return default_value;
-  const auto* array = node->as_array();
-  if (array == nullptr) Fail(key, "expected an array of numbers");
-  std::vector<double> values;
-  for (const toml::node& element : *array) {
-    double value = 0.0;
-    if (!NumberOf(element, &value)) Fail(key, "expected an array of numbers");
-    if (!std::isfinite(value)) Fail(key, "expected finite numbers");
-    values.push_back(value);
+  std::vector<double> values = default_value;
+  if (node != nullptr) {
+    const auto* array = node->as_array();
+    if (array == nullptr) Fail(key, "expected an array of numbers");
+    values.clear();
+    for (const toml::node& element : *array) {
+      double value = 0.0;
+      if (!NumberOf(element, &value)) Fail(key, "expected an array of numbers");
+      if (!std::isfinite(value)) Fail(key, "expected finite numbers");
+      values.push_back(value);
+    }
+    if (size_required > 0 && values.size() != size_required) {
+      Fail(key, "expected " + std::to_string(size_required) + " numbers, got " +
+                    std::to_string(values.size()));
+    }
   }
-  if (size_required > 0 && values.size() != size_required) {
-    Fail(key, "expected " + std::to_string(size_required) + " numbers, got " +
-                  std::to_string(values.size()));
+  for (size_t i = 0; i < values.size(); ++i) {
+    if (const double* patch = Patch(key + "." + std::to_string(i + 1))) values[i] = *patch;
   }
   return values;
 }
@@ -175,6 +229,12 @@ std::vector<std::vector<double>> TomlReader::DoubleRows(const std::string& key, 
       values.push_back(value);
     }
     rows.push_back(std::move(values));
+  }
+  for (size_t i = 0; i < rows.size(); ++i) {
+    for (size_t j = 0; j < rows[i].size(); ++j) {
+      const std::string element = key + "." + std::to_string(i + 1) + "." + std::to_string(j + 1);
+      if (const double* patch = Patch(element)) rows[i][j] = *patch;
+    }
   }
   return rows;
 }
@@ -215,15 +275,15 @@ TomlReader TomlReader::TableFromLayers(const std::string& key, size_t layers) {
     first = false;
     tables.push_back(table);
   }
-  return TomlReader(owners_, std::move(tables), file_, PathOf(key), line);
+  return Child(std::move(tables), PathOf(key), line, rel_ + key + ".");
 }
 
 TomlReader TomlReader::WholeTable(const std::string& key) {
   const toml::node* node = Node(key);
-  if (node == nullptr) return TomlReader(owners_, {}, file_, PathOf(key), line_);
+  if (node == nullptr) return Child({}, PathOf(key), line_, rel_ + key + ".");
   const auto* table = node->as_table();
   if (table == nullptr) Fail(key, "expected a table");
-  return TomlReader(owners_, {table}, file_, PathOf(key), LineOf(node));
+  return Child({table}, PathOf(key), LineOf(node), rel_ + key + ".");
 }
 
 std::vector<TomlReader> TomlReader::TableArray(const std::string& key) {
@@ -234,8 +294,9 @@ std::vector<TomlReader> TomlReader::TableArray(const std::string& key) {
   if (array == nullptr || !array->is_array_of_tables()) Fail(key, "expected an array of tables");
   int index = 1;
   for (const toml::node& element : *array) {
-    out.push_back(TomlReader(owners_, {element.as_table()}, file_,
-                             PathOf(key) + "[" + std::to_string(index++) + "]", LineOf(&element)));
+    out.push_back(Child({element.as_table()}, PathOf(key) + "[" + std::to_string(index) + "]",
+                        LineOf(&element), rel_ + key + "." + std::to_string(index) + "."));
+    ++index;
   }
   return out;
 }

@@ -6,6 +6,7 @@
 
 #include <toml++/toml.h>
 
+#include <map>
 #include <memory>
 #include <set>
 #include <string>
@@ -25,6 +26,15 @@ class TomlReader {
   static TomlReader FromLayers(std::vector<std::shared_ptr<const toml::table>> owners,
                                std::vector<const toml::table*> layers, std::string file,
                                std::string prefix, int line);
+  // Parameter patches: numbers that replace settings wherever they are read, each named by its path
+  // below this reader ("controller.k_p"; array elements by 1-based index, "sets.d_obs.Small.2";
+  // rows of DoubleRows "points.2.1"), whether the key is written or takes its default. Readers made
+  // from this one (tables, arrays of tables) apply them too. Returns a copy carrying them, with a
+  // fresh record of which were used (UnusedPatches).
+  TomlReader WithPatches(std::shared_ptr<const std::map<std::string, double>> patches) const;
+  // The patches no read has used so far, in path order (a patch naming no numeric setting).
+  std::vector<std::string> UnusedPatches() const;
+
   // This reader's layers (for building readers over them and more layers).
   const std::vector<const toml::table*>& layers() const { return layers_; }
   const std::vector<std::shared_ptr<const toml::table>>& owners() const { return owners_; }
@@ -75,6 +85,12 @@ class TomlReader {
   int LineOf(const toml::node* node) const;
   std::string PathOf(const std::string& key) const;
 
+  // A reader over `layers` below this one (key path `rel`), sharing its patches.
+  TomlReader Child(std::vector<const toml::table*> layers, std::string prefix, int line,
+                   std::string rel) const;
+  // The patch of `rel_ + key`, marked used; null when there is none.
+  const double* Patch(const std::string& key) const;
+
   // The node of `key` in the first layer that has it (null: none).
   const toml::node* Find(const std::string& key) const;
 
@@ -84,6 +100,9 @@ class TomlReader {
   std::string prefix_;
   int line_ = 0;
   std::set<std::string> known_;
+  std::shared_ptr<const std::map<std::string, double>> patches_;
+  std::shared_ptr<std::set<std::string>> patches_used_;
+  std::string rel_;  // this table's path below the reader the patches were attached to, "a.b."
 };
 
 }  // namespace rabbit

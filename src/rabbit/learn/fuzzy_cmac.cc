@@ -85,6 +85,12 @@ Eigen::Vector4d FuzzyCmac::Query(double e) const {
   return y;
 }
 
+FuzzyCmac FuzzyCmac::WithFis(TsFis fis) const {
+  FuzzyCmac copy(std::move(fis), networks_);
+  copy.pitches_ = pitches_;
+  return copy;
+}
+
 void FuzzyCmac::SetTrunkPitches(std::vector<double> q0) {
   if (q0.size() != networks_.size()) {
     throw std::invalid_argument("need one trunk pitch per reference gait");

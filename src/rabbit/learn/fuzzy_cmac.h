@@ -45,6 +45,9 @@ class FuzzyCmac {
   const std::vector<double>& trunk_pitches() const { return pitches_; }
 
   const TsFis& fis() const { return fis_; }
+  // The same networks and trunk pitches with another fuzzy system (e.g. a scenario's membership
+  // sets). Throws std::invalid_argument as the constructor does.
+  FuzzyCmac WithFis(TsFis fis) const;
   const TsFis::Result& rule_activations() const { return result_; }
   const std::vector<double>& gait_weights() const { return weights_; }
   std::size_t MemoryBytes() const;

@@ -121,7 +121,9 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     WalkerParams params = scenario.walker;
     params.nearest_gait = variant == "nearest_gait";
     params.log_every = scenario.options.record_every;
-    FuzzyCmacWalker controller(params, library->pattern, scenario.velocity, 0);
+    FuzzyCmacWalker controller(
+        params, scenario.fis ? library->pattern.WithFis(*scenario.fis) : library->pattern,
+        scenario.velocity, 0);
     out.sim = Simulate(setup, scenario.q0, scenario.qd0, &controller);
     for (const WalkerStep& w : controller.steps()) {
       out.steps.push_back({w.step, w.v_d, w.v_m_used, w.d_obs, w.q0_d, w.weights,

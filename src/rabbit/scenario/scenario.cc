@@ -4,11 +4,15 @@
 #include <cctype>
 #include <cmath>
 #include <filesystem>
+#include <map>
+#include <mutex>
 #include <utility>
 
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
+#include "rabbit/learn/fll.h"
+#include "rabbit/scenario/params.h"
 
 namespace rabbit {
 namespace {
@@ -208,6 +212,20 @@ void ReadInitial(TomlReader t, const Model& model, Scenario* s) {
   t.Finish();
 }
 
+const char* ControllerName(ControllerKind kind) {
+  switch (kind) {
+    case ControllerKind::kPdHold:
+      return "pd_hold";
+    case ControllerKind::kPragmatic:
+      return "pragmatic";
+    case ControllerKind::kFuzzyCmac:
+      return "fuzzy_cmac";
+    case ControllerKind::kPassive:
+      break;
+  }
+  return "passive";
+}
+
 // passive or pd_hold (ReadScenario has checked the type).
 void ReadController(TomlReader t, Scenario* s) {
   const std::string type = t.String("type", "passive");
@@ -338,6 +356,79 @@ PassCriteria ReadCriteria(TomlReader t) {
   return c;
 }
 
+// The FLL file's fuzzy system, parsed once per file (fuzzylite's importer is not thread-safe:
+// imports are serialised by the cache's lock).
+std::shared_ptr<const TsFis> CachedFll(const std::string& path) {
+  static std::mutex mutex;
+  static std::map<std::string, std::pair<std::filesystem::file_time_type,
+                                         std::shared_ptr<const TsFis>>> cache;
+  std::error_code error;
+  const auto time = std::filesystem::last_write_time(path, error);
+  std::lock_guard<std::mutex> lock(mutex);
+  auto found = cache.find(path);
+  if (found != cache.end() && !error && found->second.first == time) return found->second.second;
+  auto fis = std::make_shared<const TsFis>(LoadFll(path));
+  cache[path] = {time, fis};
+  return fis;
+}
+
+// A membership function's parameters in the FLL's order (Triangle a b c, Trapezoid a b c d,
+// Ramp start end, Gaussian mean sd), and back.
+std::vector<double> FllParameters(const Membership& m) {
+  switch (m.shape) {
+    case Membership::Shape::kTriangle:
+      return {m.a, m.b, m.c};
+    case Membership::Shape::kTrapezoid:
+      return {m.a, m.b, m.c, m.d};
+    case Membership::Shape::kRampDown:
+      return {m.b, m.a};
+    case Membership::Shape::kRampUp:
+    case Membership::Shape::kGaussian:
+      break;
+  }
+  return {m.a, m.b};
+}
+
+Membership FromFllParameters(Membership m, const std::vector<double>& v) {
+  if (m.shape == Membership::Shape::kRampUp || m.shape == Membership::Shape::kRampDown) {
+    const bool falling = v[0] > v[1];  // Ramp start end
+    m.shape = falling ? Membership::Shape::kRampDown : Membership::Shape::kRampUp;
+    m.a = falling ? v[1] : v[0];
+    m.b = falling ? v[0] : v[1];
+    return m;
+  }
+  m.a = v[0];
+  m.b = v[1];
+  if (v.size() > 2) m.c = v[2];
+  if (v.size() > 3) m.d = v[3];
+  return m;
+}
+
+// [controller.sets]: <input>.<set> = [parameters in the FLL's order], replacing the FLL file's
+// membership functions (every set is readable, so a parameter overlay may tune any breakpoint).
+void ReadMembershipSets(TomlReader sets, const TsFis& fll, Scenario* s) {
+  TsFis fis = fll;
+  bool changed = false;
+  for (FuzzyInput& input : fis.inputs) {
+    TomlReader table = sets.Table(input.name);
+    for (FuzzySet& set : input.sets) {
+      const std::vector<double> base = FllParameters(set.membership);
+      const std::vector<double> v = table.Doubles(set.name, base, base.size());
+      if (v == base) continue;
+      set.membership = FromFllParameters(set.membership, v);
+      changed = true;
+      std::string error;
+      if (!set.membership.IsValid(&error)) table.Fail(set.name, error);
+    }
+    table.Finish();
+  }
+  sets.Finish();
+  if (!changed) return;
+  std::string error;
+  if (!fis.IsValid(&error)) sets.Fail("", error);
+  s->fis = std::move(fis);
+}
+
 // type = "fuzzy_cmac": the chapter's walker (see FuzzyCmacWalker). Reads the gait database to
 // choose the start gait; the walk starts from its documented walking start.
 void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
@@ -346,6 +437,7 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
   f.fll = ResolvePath(*t, t->String("fll", "../gaits/gait_pattern.fll"));
   f.networks = ResolvePath(*t, t->String("networks", "../gaits/networks"));
   f.gaits = ResolvePath(*t, t->String("gaits", "../gaits/reference"));
+  ReadMembershipSets(t->Table("sets"), *CachedFll(f.fll), s);
   const std::vector<GaitIndexEntry> index =
       ReadGaitIndex((std::filesystem::path(f.gaits) / "index.csv").string());
   if (index.empty()) t->Fail("gaits", "the gait database " + f.gaits + " lists no gait");
@@ -482,11 +574,24 @@ ModelParams LoadModelFile(const std::string& path) {
   return p;
 }
 
-Scenario LoadScenario(const std::string& path) {
-  return ReadScenario(TomlReader::ParseFile(path), std::filesystem::path(path).stem().string());
+Scenario LoadScenario(const std::string& path, const ParamOverlay* overlay) {
+  return ReadScenario(TomlReader::ParseFile(path), std::filesystem::path(path).stem().string(),
+                      overlay);
 }
 
-Scenario ReadScenario(TomlReader root, const std::string& default_name) {
+Scenario ReadScenario(TomlReader root, const std::string& default_name,
+                      const ParamOverlay* overlay) {
+  if (overlay != nullptr && !overlay->empty()) {
+    TomlReader patched = root.WithPatches(overlay->Patches());
+    Scenario s = ReadScenario(patched, default_name, nullptr);
+    const std::vector<std::string> unused = patched.UnusedPatches();
+    if (!unused.empty()) {
+      overlay->Fail(unused.front(), "names no numeric setting of scenario \"" + s.name + "\" (" +
+                                        s.file + ", controller " + ControllerName(s.controller) +
+                                        "): see README, \"Parameter overlays\"");
+    }
+    return s;
+  }
   Scenario s;
   s.file = root.file();
   s.name = root.String("name", default_name);

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -20,6 +21,7 @@
 namespace rabbit {
 
 class TomlReader;
+struct ParamOverlay;
 
 enum class ControllerKind { kPassive, kPdHold, kPragmatic, kFuzzyCmac };
 
@@ -67,6 +69,9 @@ struct Scenario {
   // pragmatic warm-up), and the baselines to run beside it ("pragmatic", "nearest_gait").
   WalkerParams walker;
   GaitPatternFiles pattern;
+  // The gait pattern's fuzzy system when [controller.sets] changes the FLL file's membership
+  // functions (else empty: the FLL file's, from the gait library).
+  std::optional<TsFis> fis;
   std::string start_gait;
   std::vector<std::string> baselines;
   // The desired velocity V_d(t) (for every walking controller; the baselines only report it).
@@ -79,10 +84,13 @@ struct Scenario {
 };
 
 // Reads and validates a scenario file. Throws InputError naming the file, line and key.
-Scenario LoadScenario(const std::string& path);
+// With an overlay, its parameters replace the scenario's settings (InputError, naming the overlay,
+// for a parameter that names no numeric setting of the scenario).
+Scenario LoadScenario(const std::string& path, const ParamOverlay* overlay = nullptr);
 // Reads and validates one scenario from a table (a scenario file's root, or a suite's scenario
 // merged with its defaults); relative paths resolve against the reader's file's directory.
-Scenario ReadScenario(TomlReader root, const std::string& default_name);
+Scenario ReadScenario(TomlReader root, const std::string& default_name,
+                      const ParamOverlay* overlay = nullptr);
 
 // Reads a [model] table (all ModelParams fields, optionally `file = "other.toml"` whose [model]
 // table gives the base values). Validates the result.

@@ -113,12 +113,13 @@ bool IsSuiteFile(const std::string& path) {
   return root.Has("suite") || root.Has("scenario") || root.Has("family");
 }
 
-Suite LoadSuite(const std::string& path) {
+Suite LoadSuite(const std::string& path, const ParamOverlay* overlay) {
   TomlReader root = TomlReader::ParseFile(path);
   Suite suite;
   suite.file = path;
   if (!root.Has("suite") && !root.Has("scenario") && !root.Has("family")) {
-    suite.scenarios.push_back(ReadScenario(root, std::filesystem::path(path).stem().string()));
+    suite.scenarios.push_back(
+        ReadScenario(root, std::filesystem::path(path).stem().string(), overlay));
     suite.name = suite.scenarios.back().name;
     suite.description = suite.scenarios.back().description;
     return suite;
@@ -137,7 +138,8 @@ Suite LoadSuite(const std::string& path) {
     std::vector<const toml::table*> layers = s.layers();
     layers.insert(layers.end(), default_layers.begin(), default_layers.end());
     suite.scenarios.push_back(
-        ReadScenario(TomlReader::FromLayers(s.owners(), layers, path, s.prefix(), s.line()), ""));
+        ReadScenario(TomlReader::FromLayers(s.owners(), layers, path, s.prefix(), s.line()), "",
+                     overlay));
   }
   std::set<std::string> family_names;
   for (TomlReader& f : root.TableArray("family")) {
@@ -198,7 +200,7 @@ Suite LoadSuite(const std::string& path) {
       suite.scenarios.push_back(ReadScenario(
           TomlReader::FromLayers(owners, layers, path,
                                  f.prefix() + ".scenario (" + name + member + ")", templ.line()),
-          ""));
+          "", overlay));
     }
   }
   root.Finish();

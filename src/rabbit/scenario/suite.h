@@ -36,7 +36,8 @@ bool IsSuiteFile(const std::string& path);
 // Reads, expands and validates a suite; scenario names must be unique. A single scenario file is
 // read as a suite of one, named after the scenario. Throws InputError naming
 // the file, line and key (for a family member: the family's keys, and the member's name).
-Suite LoadSuite(const std::string& path);
+// With an overlay, its parameters replace the settings of every scenario (see params.h).
+Suite LoadSuite(const std::string& path, const ParamOverlay* overlay = nullptr);
 
 // The value a family member draws for one varied key, in [low, high): a hash of the family's seed,
 // the member's index and the key's name (adding or removing another key changes nothing).
