@@ -6,8 +6,17 @@
 
 #include "cli/commands.h"
 #include "rabbit/io/error.h"
+#include "rabbit/scenario/ranks.h"
 
-int main(int argc, char** argv) {
+namespace {
+
+// Under mpirun every rank reads the same input and fails the same way: rank 0 speaks for all.
+int Fail(const std::exception& e) {
+  if (rabbit::Ranks::root()) std::cerr << "rabbit: error: " << e.what() << "\n";
+  return 2;
+}
+
+int Main(int argc, char** argv) {
   CLI::App app{"rabbit-gait: offline design of biped gaits for the RABBIT robot", "rabbit"};
   app.set_version_flag("--version", std::string("rabbit ") + RABBIT_VERSION);
   app.require_subcommand(1);
@@ -25,12 +34,17 @@ int main(int argc, char** argv) {
     for (const rabbit::cli::Command& command : commands) {
       if (command.app->parsed()) return command.run();
     }
-  } catch (const rabbit::InputError& e) {
-    std::cerr << "rabbit: error: " << e.what() << "\n";
-    return 2;
   } catch (const std::exception& e) {
-    std::cerr << "rabbit: error: " << e.what() << "\n";
-    return 2;
+    return Fail(e);
   }
   return 2;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  rabbit::Ranks::Init(&argc, &argv);
+  const int code = Main(argc, argv);
+  rabbit::Ranks::Finalize();
+  return code;
 }

@@ -1,0 +1,47 @@
+// The processes of a distributed job: MPI_COMM_WORLD when rabbit is built with MPI (OpenMPI from
+// Debian, found by CMake) and started by mpirun; otherwise a single process (rank 0 of 1). Work is
+// dealt by index (item i to rank i mod size) and results are gathered back in index order, so a
+// job's results never depend on the number of ranks. Collectives are called from the main thread
+// only (MPI_THREAD_FUNNELED); every rank must make the same calls in the same order.
+//
+// Also the --shard I/N option of batch schedulers without MPI: shard I of N (1-based) takes the
+// items i with i mod N = I - 1.
+#ifndef RABBIT_SCENARIO_RANKS_H_
+#define RABBIT_SCENARIO_RANKS_H_
+
+#include <string>
+#include <vector>
+
+namespace rabbit {
+
+class Ranks {
+ public:
+  // Once, first thing in main() (a no-op without MPI or outside mpirun).
+  static void Init(int* argc, char*** argv);
+  // Once, before main() returns.
+  static void Finalize();
+  static int rank();
+  static int size();
+  static bool root() { return rank() == 0; }
+  static bool built_with_mpi();
+  // Every rank's string, in rank order (a collective).
+  static std::vector<std::string> AllGather(const std::string& mine);
+  // Rank 0's string on every rank (a collective).
+  static std::string Broadcast(const std::string& from_root);
+  // The logical AND over ranks (a collective): e.g. "every rank loaded its input".
+  static bool AllTrue(bool mine);
+  // Ends every rank (MPI_Abort) after a failure that only some ranks saw; exits otherwise.
+  [[noreturn]] static void Abort(int code);
+};
+
+struct Shard {
+  int index = 1, count = 1;  // 1-based: shard `index` of `count`
+  bool active() const { return count > 1; }
+  bool Owns(size_t item) const { return static_cast<int>(item % count) == index - 1; }
+};
+// Parses "I/N" (1 <= I <= N <= 100000); false with *error set otherwise.
+bool ParseShard(const std::string& text, Shard* shard, std::string* error);
+
+}  // namespace rabbit
+
+#endif  // RABBIT_SCENARIO_RANKS_H_
