@@ -21,6 +21,7 @@ Command RegisterTrain(CLI::App* app);
 Command RegisterFis(CLI::App* app);
 Command RegisterReport(CLI::App* app);
 Command RegisterRun(CLI::App* app);
+Command RegisterTune(CLI::App* app);
 
 }  // namespace rabbit::cli
 

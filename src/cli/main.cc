@@ -23,7 +23,8 @@ int Main(int argc, char** argv) {
   const std::vector<rabbit::cli::Command> commands = {
       rabbit::cli::RegisterSimulate(&app), rabbit::cli::RegisterGaits(&app),
       rabbit::cli::RegisterTrain(&app),    rabbit::cli::RegisterFis(&app),
-      rabbit::cli::RegisterRun(&app),      rabbit::cli::RegisterReport(&app)};
+      rabbit::cli::RegisterRun(&app),      rabbit::cli::RegisterReport(&app),
+      rabbit::cli::RegisterTune(&app)};
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {

@@ -47,6 +47,12 @@ TomlReader TomlReader::WithPatches(
   return copy;
 }
 
+TomlReader TomlReader::WithObserver(std::shared_ptr<std::map<std::string, double>> settings) const {
+  TomlReader copy = *this;
+  copy.observed_ = std::move(settings);
+  return copy;
+}
+
 std::vector<std::string> TomlReader::UnusedPatches() const {
   std::vector<std::string> unused;
   if (patches_ == nullptr) return unused;
@@ -61,6 +67,7 @@ TomlReader TomlReader::Child(std::vector<const toml::table*> layers, std::string
   TomlReader child(owners_, std::move(layers), file_, std::move(prefix), line);
   child.patches_ = patches_;
   child.patches_used_ = patches_used_;
+  child.observed_ = observed_;
   child.rel_ = std::move(rel);
   return child;
 }
@@ -129,13 +136,16 @@ bool NumberOf(const toml::node& node, double* value) {
 double TomlReader::Double(const std::string& key, double default_value) {
   if (const double* patch = Patch(key)) {
     known_.insert(key);
+    Observe(key, *patch);
     return *patch;
   }
   const toml::node* node = Node(key);
-  if (node == nullptr) return default_value;
-  double value = 0.0;
-  if (!NumberOf(*node, &value)) Fail(key, "expected a number");
-  if (!std::isfinite(value)) Fail(key, "expected a finite number");
+  double value = default_value;
+  if (node != nullptr) {
+    if (!NumberOf(*node, &value)) Fail(key, "expected a number");
+    if (!std::isfinite(value)) Fail(key, "expected a finite number");
+  }
+  Observe(key, value);
   return value;
 }
 
@@ -156,16 +166,21 @@ long TomlReader::Integer(const std::string& key, long default_value, long min, l
                     ": expected an integer in [" + std::to_string(min) + ", " +
                     std::to_string(max) + "]");
     }
+    Observe(key, *patch);
     return static_cast<long>(*patch);
   }
   const toml::node* node = Node(key);
-  if (node == nullptr) return default_value;
+  if (node == nullptr) {
+    Observe(key, static_cast<double>(default_value));
+    return default_value;
+  }
   const auto* i = node->as_integer();
   if (i == nullptr) Fail(key, "expected an integer");
   const auto value = i->get();
   if (value < min || value > max) {
     Fail(key, "expected an integer in [" + std::to_string(min) + ", " + std::to_string(max) + "]");
   }
+  Observe(key, static_cast<double>(value));
   return static_cast<long>(value);
 }
 
@@ -206,7 +221,9 @@ std::vector<double> TomlReader::Doubles(const std::string& key,
     }
   }
   for (size_t i = 0; i < values.size(); ++i) {
-    if (const double* patch = Patch(key + "." + std::to_string(i + 1))) values[i] = *patch;
+    const std::string element = key + "." + std::to_string(i + 1);
+    if (const double* patch = Patch(element)) values[i] = *patch;
+    Observe(element, values[i]);
   }
   return values;
 }
@@ -234,6 +251,7 @@ std::vector<std::vector<double>> TomlReader::DoubleRows(const std::string& key, 
     for (size_t j = 0; j < rows[i].size(); ++j) {
       const std::string element = key + "." + std::to_string(i + 1) + "." + std::to_string(j + 1);
       if (const double* patch = Patch(element)) rows[i][j] = *patch;
+      Observe(element, rows[i][j]);
     }
   }
   return rows;

@@ -35,6 +35,10 @@ class TomlReader {
   // The patches no read has used so far, in path order (a patch naming no numeric setting).
   std::vector<std::string> UnusedPatches() const;
 
+  // Records into *settings the value every numeric read returns (patched or default included),
+  // by its path below this reader, array elements 1-based: the scenario's effective settings.
+  TomlReader WithObserver(std::shared_ptr<std::map<std::string, double>> settings) const;
+
   // This reader's layers (for building readers over them and more layers).
   const std::vector<const toml::table*>& layers() const { return layers_; }
   const std::vector<std::shared_ptr<const toml::table>>& owners() const { return owners_; }
@@ -91,6 +95,10 @@ class TomlReader {
   // The patch of `rel_ + key`, marked used; null when there is none.
   const double* Patch(const std::string& key) const;
 
+  void Observe(const std::string& key, double value) const {
+    if (observed_ != nullptr) (*observed_)[rel_ + key] = value;
+  }
+
   // The node of `key` in the first layer that has it (null: none).
   const toml::node* Find(const std::string& key) const;
 
@@ -102,6 +110,7 @@ class TomlReader {
   std::set<std::string> known_;
   std::shared_ptr<const std::map<std::string, double>> patches_;
   std::shared_ptr<std::set<std::string>> patches_used_;
+  std::shared_ptr<std::map<std::string, double>> observed_;
   std::string rel_;  // this table's path below the reader the patches were attached to, "a.b."
 };
 

@@ -580,7 +580,13 @@ Scenario LoadScenario(const std::string& path, const ParamOverlay* overlay) {
 }
 
 Scenario ReadScenario(TomlReader root, const std::string& default_name,
-                      const ParamOverlay* overlay) {
+                      const ParamOverlay* overlay, std::map<std::string, double>* settings) {
+  if (settings != nullptr) {
+    auto observed = std::make_shared<std::map<std::string, double>>();
+    Scenario s = ReadScenario(root.WithObserver(observed), default_name, overlay, nullptr);
+    *settings = std::move(*observed);
+    return s;
+  }
   if (overlay != nullptr && !overlay->empty()) {
     TomlReader patched = root.WithPatches(overlay->Patches());
     Scenario s = ReadScenario(patched, default_name, nullptr);

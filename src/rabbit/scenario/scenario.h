@@ -4,6 +4,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -89,8 +90,11 @@ struct Scenario {
 Scenario LoadScenario(const std::string& path, const ParamOverlay* overlay = nullptr);
 // Reads and validates one scenario from a table (a scenario file's root, or a suite's scenario
 // merged with its defaults); relative paths resolve against the reader's file's directory.
+// With `settings`, records the scenario's effective numeric settings (key path -> value, see
+// TomlReader::WithObserver): what a parameter overlay can change.
 Scenario ReadScenario(TomlReader root, const std::string& default_name,
-                      const ParamOverlay* overlay = nullptr);
+                      const ParamOverlay* overlay = nullptr,
+                      std::map<std::string, double>* settings = nullptr);
 
 // Reads a [model] table (all ModelParams fields, optionally `file = "other.toml"` whose [model]
 // table gives the base values). Validates the result.

@@ -113,13 +113,20 @@ bool IsSuiteFile(const std::string& path) {
   return root.Has("suite") || root.Has("scenario") || root.Has("family");
 }
 
-Suite LoadSuite(const std::string& path, const ParamOverlay* overlay) {
+Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
+                std::vector<std::map<std::string, double>>* settings) {
+  if (settings != nullptr) settings->clear();
+  auto record = [settings]() -> std::map<std::string, double>* {
+    if (settings == nullptr) return nullptr;
+    settings->emplace_back();
+    return &settings->back();
+  };
   TomlReader root = TomlReader::ParseFile(path);
   Suite suite;
   suite.file = path;
   if (!root.Has("suite") && !root.Has("scenario") && !root.Has("family")) {
     suite.scenarios.push_back(
-        ReadScenario(root, std::filesystem::path(path).stem().string(), overlay));
+        ReadScenario(root, std::filesystem::path(path).stem().string(), overlay, record()));
     suite.name = suite.scenarios.back().name;
     suite.description = suite.scenarios.back().description;
     return suite;
@@ -139,7 +146,7 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay) {
     layers.insert(layers.end(), default_layers.begin(), default_layers.end());
     suite.scenarios.push_back(
         ReadScenario(TomlReader::FromLayers(s.owners(), layers, path, s.prefix(), s.line()), "",
-                     overlay));
+                     overlay, record()));
   }
   std::set<std::string> family_names;
   for (TomlReader& f : root.TableArray("family")) {
@@ -200,7 +207,7 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay) {
       suite.scenarios.push_back(ReadScenario(
           TomlReader::FromLayers(owners, layers, path,
                                  f.prefix() + ".scenario (" + name + member + ")", templ.line()),
-          "", overlay));
+          "", overlay, record()));
     }
   }
   root.Finish();

@@ -17,6 +17,7 @@
 #define RABBIT_SCENARIO_SUITE_H_
 
 #include <cstdint>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -37,7 +38,9 @@ bool IsSuiteFile(const std::string& path);
 // read as a suite of one, named after the scenario. Throws InputError naming
 // the file, line and key (for a family member: the family's keys, and the member's name).
 // With an overlay, its parameters replace the settings of every scenario (see params.h).
-Suite LoadSuite(const std::string& path, const ParamOverlay* overlay = nullptr);
+// With `settings`, records each scenario's effective numeric settings (see ReadScenario).
+Suite LoadSuite(const std::string& path, const ParamOverlay* overlay = nullptr,
+                std::vector<std::map<std::string, double>>* settings = nullptr);
 
 // The value a family member draws for one varied key, in [low, high): a hash of the family's seed,
 // the member's index and the key's name (adding or removing another key changes nothing).

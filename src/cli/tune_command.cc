@@ -1,0 +1,107 @@
+// rabbit tune JOB.toml [--out DIR] [--jobs N] [--resume | --force] [--shard I/N]: a tuning job
+// (optimizers/tuner.h). Prints one line per evaluation and the best parameters; writes the log,
+// best.toml and the report into the job's folder (default reports/<job name>/).
+#include <unistd.h>
+
+#include <cstdio>
+#include <iostream>
+#include <memory>
+#include <string>
+
+#include "cli/commands.h"
+#include "rabbit/io/error.h"
+#include "rabbit/scenario/ranks.h"
+#include "tuner.h"
+
+namespace rabbit::cli {
+namespace {
+
+struct TuneArgs {
+  std::string job;
+  std::string shard;
+  TuneOptions options;
+};
+
+int RunTuneCommand(TuneArgs args) {
+  if (args.options.resume && args.options.force) {
+    throw InputError("--force", 0, "", "--resume continues the log, --force discards it: not both");
+  }
+  if (!args.shard.empty()) {
+    std::string error;
+    if (!ParseShard(args.shard, &args.options.shard, &error)) {
+      throw InputError("--shard", 0, args.shard, error);
+    }
+  }
+  const TuneJob job = LoadTuneJob(args.job);
+  const bool talk = !args.options.quiet && Ranks::root();
+  if (talk) {
+    std::printf("job        %s (%s): %s, %zu parameters, budget %d evaluations, %d search%s, seed "
+                "%llu%s\n",
+                job.name.c_str(), job.file.c_str(), TuneAlgorithmName(job.algorithm),
+                job.parameters.size(), job.max_evaluations, job.starts,
+                job.starts == 1 ? "" : "es", static_cast<unsigned long long>(job.seed),
+                Ranks::size() > 1 ? (", " + std::to_string(Ranks::size()) + " ranks").c_str()
+                                  : "");
+    std::fflush(stdout);
+  }
+  double best = 0.0;
+  bool any = false;
+  args.options.on_evaluation = [&](const Evaluation& e) {
+    if (!talk) return;
+    if (!any || e.objective < best) best = e.objective;
+    any = true;
+    std::printf("eval %4d  search %d  objective %-12.6g best %-12.6g %d/%d runs failed%s%s\n",
+                e.index, e.start, e.objective, best, e.failed, e.runs,
+                e.error.empty() ? "" : "  invalid: ", e.error.c_str());
+    std::fflush(stdout);
+  };
+  const TuneResult result = RunTune(job, args.options);
+  if (talk) {
+    if (result.replayed > 0) {
+      std::printf("replayed   %d evaluations from the log\n", result.replayed);
+    }
+    if (!result.complete) {
+      std::printf("shard      %s done: run `rabbit tune %s --resume` once every shard is done\n",
+                  args.shard.c_str(), args.job.c_str());
+      return 0;
+    }
+    const Evaluation& initial = result.evaluations[result.initial];
+    const Evaluation& b = result.evaluations[result.best];
+    std::printf("best       objective %.6g at evaluation %d (initial %.6g, %+.1f%%)\n",
+                b.objective, b.index, initial.objective,
+                initial.objective != 0.0
+                    ? 100.0 * (b.objective - initial.objective) / std::abs(initial.objective)
+                    : 0.0);
+    for (size_t i = 0; i < job.parameters.size(); ++i) {
+      std::printf("  %-40s %12.6g  (initial %.6g, bounds [%g, %g])\n",
+                  job.parameters[i].path.c_str(), b.x[i], initial.x[i], job.parameters[i].lower,
+                  job.parameters[i].upper);
+    }
+    std::printf("wrote      %s/best.toml (rabbit run --params %s/best.toml ...)\n",
+                result.out.c_str(), result.out.c_str());
+  }
+  return 0;
+}
+
+}  // namespace
+
+Command RegisterTune(CLI::App* app) {
+  auto args = std::make_shared<TuneArgs>();
+  CLI::App* cmd = app->add_subcommand(
+      "tune", "Tune parameters over scenario suites with NLopt or Ceres (a job file)");
+  cmd->add_option("job", args->job, "Tuning job (TOML; see README, \"Tuning jobs\")")->required();
+  cmd->add_option("--out,-o", args->options.out, "Output folder (default reports/<job name>)");
+  cmd->add_option("--jobs,-j", args->options.threads, "Threads per process (default: all cores)")
+      ->check(CLI::Range(0, 1024));
+  cmd->add_flag("--resume", args->options.resume,
+                "Continue the job's log (after an interruption, or to merge shards)");
+  cmd->add_flag("--force", args->options.force, "Discard an existing log and start over");
+  cmd->add_option("--shard", args->shard,
+                  "Run only the searches s with s mod N = I - 1 (I/N, for array jobs)");
+  cmd->add_flag(
+      "--no-html", [args](std::int64_t) { args->options.html = false; }, "No index.html");
+  cmd->add_flag("--quiet,-q", args->options.quiet, "Print nothing but errors and warnings");
+  return {cmd, [args] { return RunTuneCommand(*args); }};
+}
+
+}  // namespace rabbit::cli
