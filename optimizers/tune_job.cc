@@ -82,15 +82,17 @@ ParamOverlay TuneJob::Overlay(const std::vector<double>& x) const {
   ParamOverlay overlay = base;
   overlay.file = file;
   for (size_t i = 0; i < parameters.size(); ++i) {
-    bool replaced = false;
-    for (ParamValue& v : overlay.values) {
-      if (v.path == parameters[i].path) {
-        v.value = x[i];
-        v.line = parameters[i].line;
-        replaced = true;
+    for (const std::string& path : parameters[i].paths) {
+      bool replaced = false;
+      for (ParamValue& v : overlay.values) {
+        if (v.path == path) {
+          v.value = x[i];
+          v.line = parameters[i].line;
+          replaced = true;
+        }
       }
+      if (!replaced) overlay.values.push_back({path, x[i], parameters[i].line});
     }
-    if (!replaced) overlay.values.push_back({parameters[i].path, x[i], parameters[i].line});
   }
   return overlay;
 }
@@ -190,10 +192,17 @@ TuneJob LoadTuneJob(const std::string& path) {
   for (TomlReader& p : params) {
     TuneParameter q;
     q.line = p.line();
-    q.path = p.String("path", "");
-    std::string error;
-    if (!IsParamPath(q.path, &error)) p.Fail("path", error);
-    q.name = q.path;
+    q.paths = p.IsArray("path") ? p.Strings("path", {}) : std::vector<std::string>{p.String("path", "")};
+    if (q.paths.empty()) p.Fail("path", "name at least one key path");
+    for (const std::string& one : q.paths) {
+      std::string error;
+      if (!IsParamPath(one, &error)) p.Fail("path", error);
+    }
+    q.path = q.paths.front();
+    q.name = p.String("name", q.path);
+    if (q.name.empty() || q.name.find_first_of(",\"\n\r") != std::string::npos) {
+      p.Fail("name", "a column name: no commas, quotes or line breaks");
+    }
     q.lower = p.RequiredDouble("lower");
     q.upper = p.RequiredDouble("upper");
     if (!(q.lower < q.upper)) p.Fail("lower", "bounds need lower < upper");
@@ -204,7 +213,12 @@ TuneJob LoadTuneJob(const std::string& path) {
     }
     p.Finish();
     for (const TuneParameter& other : job.parameters) {
-      if (other.path == q.path) p.Fail("path", "\"" + q.path + "\" is tuned twice");
+      for (const std::string& a : other.paths) {
+        for (const std::string& b : q.paths) {
+          if (a == b) p.Fail("path", "\"" + a + "\" is tuned twice");
+        }
+      }
+      if (other.name == q.name) p.Fail("name", "two parameters named \"" + q.name + "\"");
     }
     job.parameters.push_back(q);
   }
@@ -230,20 +244,23 @@ TuneJob LoadTuneJob(const std::string& path) {
       any = true;
       for (size_t k = 0; k < job.parameters.size(); ++k) {
         TuneParameter& q = job.parameters[k];
-        const auto found = settings[i].find(q.path);
-        if (found == settings[i].end()) {
-          const std::string near = Near(settings[i], q.path);
-          throw InputError(path, q.line, q.path,
-                           "names no numeric setting of scenario \"" + s.name + "\" in " +
-                               suite_path + (near.empty() ? "" : " (its settings there: " + near + ")"));
-        }
-        if (std::isnan(q.initial)) {
-          q.initial = found->second;
-        } else if (!given_initial[k] && q.initial != found->second) {
-          throw InputError(path, q.line, q.path,
-                           "its current value differs between scenarios (" +
-                               ExactNumber(q.initial) + " and " + ExactNumber(found->second) +
-                               " in \"" + s.name + "\"): give `initial`");
+        for (const std::string& one : q.paths) {
+          const auto found = settings[i].find(one);
+          if (found == settings[i].end()) {
+            const std::string near = Near(settings[i], one);
+            throw InputError(path, q.line, one,
+                             "names no numeric setting of scenario \"" + s.name + "\" in " +
+                                 suite_path +
+                                 (near.empty() ? "" : " (its settings there: " + near + ")"));
+          }
+          if (std::isnan(q.initial)) {
+            q.initial = found->second;
+          } else if (!given_initial[k] && q.initial != found->second) {
+            throw InputError(path, q.line, one,
+                             "its current value differs between its paths or scenarios (" +
+                                 ExactNumber(q.initial) + " and " + ExactNumber(found->second) +
+                                 " in \"" + s.name + "\"): give `initial`");
+          }
         }
       }
     }

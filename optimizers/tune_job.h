@@ -6,7 +6,8 @@
 //                scenario names), params (a base overlay under the tuned values), algorithm,
 //                max_evaluations, seed, starts, initial_step, population, xtol_rel, ftol_rel
 //   [objective]  weights of the terms (TuneTerm), form = "mean" | "mean_square", missing.<term>
-//   [[parameter]] path (a scenario key path, as in a parameter overlay), lower, upper, initial
+//   [[parameter]] path (a scenario key path, as in a parameter overlay, or an array of them that
+//                take the same value), name, lower, upper, initial
 //   [ceres]      fd_step, max_iterations, function_tolerance
 #ifndef RABBIT_OPTIMIZERS_TUNE_JOB_H_
 #define RABBIT_OPTIMIZERS_TUNE_JOB_H_
@@ -35,8 +36,10 @@ enum TuneTerm {
 const char* TuneTermName(int term);
 
 struct TuneParameter {
-  std::string path;  // scenario key path (see params.h)
-  std::string name;  // column name in the CSV files: the path
+  std::string path;  // scenario key path (see params.h): the first of `paths`
+  // Every key path the value goes to (tied settings, e.g. a breakpoint two fuzzy sets share).
+  std::vector<std::string> paths;
+  std::string name;  // column name in the CSV files: `name`, else the path
   double lower = 0.0, upper = 0.0;
   double initial = 0.0;  // the job's `initial`, else the suites' current value
   int line = 0;          // of its [[parameter]] in the job file

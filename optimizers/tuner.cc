@@ -660,7 +660,7 @@ void WriteOutputs(const TuneJob& job, const fs::path& dir, const TuneResult& res
     out << "path,lower,upper,initial,best\n";
     for (size_t i = 0; i < job.parameters.size(); ++i) {
       const TuneParameter& p = job.parameters[i];
-      out << p.path << "," << ExactNumber(p.lower) << "," << ExactNumber(p.upper) << ","
+      out << p.name << "," << ExactNumber(p.lower) << "," << ExactNumber(p.upper) << ","
           << ExactNumber(initial.x[i]) << "," << ExactNumber(best.x[i]) << "\n";
     }
   });
@@ -850,6 +850,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
     std::vector<std::vector<double>> fresh;                  // to evaluate now
     std::vector<std::pair<size_t, size_t>> fresh_at;         // (request, candidate)
     std::vector<std::vector<const Evaluation*>> found(ss.size());
+    bool evaluated = false;
     for (size_t r = 0; r < ss.size(); ++r) {
       const int s = ss[r];
       int charged = 0;
@@ -868,6 +869,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
         const Evaluation* replay = logged != recorded.end() ? &logged->second
                                    : other != foreign.end() ? &other->second
                                                             : nullptr;
+        evaluated = true;
         if (replay != nullptr) {
           if (replay->x != x) {
             throw InputError((dir / "evaluations.csv").string(), 0, "",
@@ -927,7 +929,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
     for (size_t r = 0; r < ss.size(); ++r) {
       for (const Evaluation* e : found[r]) answers[r].push_back(*e);
     }
-    ++round;
+    if (evaluated) ++round;  // rounds of memo hits only are not rounds
     return answers;
   };
   std::vector<std::thread> threads;
