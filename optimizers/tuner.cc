@@ -5,6 +5,8 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <csignal>
+#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
@@ -316,11 +318,20 @@ class Log {
         std::fputs(row.c_str(), evaluations_) < 0 || std::fflush(evaluations_) != 0) {
       throw std::runtime_error("cannot append to the log (disk full?)");
     }
+    // For the resume tests: RABBIT_TUNE_KILL_AFTER=N kills the process (SIGKILL, no clean-up)
+    // once N evaluations have been logged, half-way through writing the next row's text.
+    if (kill_after_ > 0 && ++appended_ == kill_after_) {
+      std::fputs("999,0,0", evaluations_);
+      std::fflush(evaluations_);
+      std::raise(SIGKILL);
+    }
   }
+  void KillAfter(int n) { kill_after_ = n; }
 
  private:
   std::FILE* evaluations_ = nullptr;
   std::FILE* runs_ = nullptr;
+  int kill_after_ = 0, appended_ = 0;
 };
 
 // ---------------------------------------------------------------------------------------------
@@ -792,6 +803,19 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   evaluations_text = Ranks::Broadcast(evaluations_text);
   runs_text = Ranks::Broadcast(runs_text);
   recorded = ParseLog(job, (dir / "evaluations.csv").string(), evaluations_text, runs_text);
+  if (!recorded.empty()) {
+    // What survived, rewritten whole: complete rows, and no runs of an evaluation cut short.
+    std::vector<const Evaluation*> order;
+    for (const auto& [key, e] : recorded) order.push_back(&e);
+    std::sort(order.begin(), order.end(),
+              [](const Evaluation* a, const Evaluation* b) { return a->index < b->index; });
+    evaluations_text = EvaluationsHeader(job) + "\n";
+    runs_text = RunsHeader() + "\n";
+    for (const Evaluation* e : order) {
+      evaluations_text += EvaluationRow(*e) + "\n";
+      runs_text += RunRows(*e);
+    }
+  }
   // Without --shard, --resume also replays every shard's log.
   std::string shard_logs;
   if (Ranks::root() && options.resume && !options.shard.active() && fs::exists(out / "shards")) {
@@ -823,6 +847,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   }
   Log log;
   log.Open(dir, job, evaluations_text, runs_text);
+  if (const char* kill = std::getenv("RABBIT_TUNE_KILL_AFTER")) log.KillAfter(std::atoi(kill));
   int next_index = 0;
   for (const auto& [key, e] : recorded) next_index = std::max(next_index, e.index + 1);
 

@@ -74,7 +74,7 @@ int RunTuneCommand(TuneArgs args) {
                     : 0.0);
     for (size_t i = 0; i < job.parameters.size(); ++i) {
       std::printf("  %-40s %12.6g  (initial %.6g, bounds [%g, %g])\n",
-                  job.parameters[i].path.c_str(), b.x[i], initial.x[i], job.parameters[i].lower,
+                  job.parameters[i].name.c_str(), b.x[i], initial.x[i], job.parameters[i].lower,
                   job.parameters[i].upper);
     }
     std::printf("wrote      %s/best.toml (rabbit run --params %s/best.toml ...)\n",

@@ -26,6 +26,12 @@ bool Ranks::built_with_mpi() {
 
 void Ranks::Init(int* argc, char*** argv) {
 #ifdef RABBIT_WITH_MPI
+  // Started by mpirun (OpenMPI, or a PMI launcher such as srun)? Otherwise stay a single process:
+  // MPI's singleton start costs about 0.3 s and may warn about the network on a laptop.
+  if (std::getenv("OMPI_COMM_WORLD_SIZE") == nullptr && std::getenv("PMIX_RANK") == nullptr &&
+      std::getenv("PMI_SIZE") == nullptr && std::getenv("PMI_RANK") == nullptr) {
+    return;
+  }
   int already = 0;
   MPI_Initialized(&already);
   if (already == 0) {

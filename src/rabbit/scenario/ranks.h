@@ -16,7 +16,8 @@ namespace rabbit {
 
 class Ranks {
  public:
-  // Once, first thing in main() (a no-op without MPI or outside mpirun).
+  // Once, first thing in main(): MPI_Init_thread when built with MPI and started by a launcher
+  // (mpirun, srun: OMPI_COMM_WORLD_SIZE, PMIX_RANK, PMI_SIZE or PMI_RANK set); else a no-op.
   static void Init(int* argc, char*** argv);
   // Once, before main() returns.
   static void Finalize();

@@ -1,0 +1,335 @@
+// Tuning jobs (optimizers/tune_job.h, tuner.h): bad jobs are InputErrors naming the job file, line
+// and key (exit 2 from the CLI); the result does not depend on the number of threads; a job killed
+// midway (SIGKILL, a row half written) resumes to the same log and best.toml as an uninterrupted
+// run; shards merge to the same result; best.toml given to `rabbit run --params` reproduces the
+// best evaluation's runs; the objective's terms follow their definitions.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "rabbit/io/csv_table.h"
+#include "rabbit/io/error.h"
+#include "tune_job.h"
+#include "tuner.h"
+
+namespace rabbit {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kRoot = RABBIT_SOURCE_DIR;
+
+int RunCli(const std::string& args, std::string* output = nullptr) {
+  const std::string command = std::string(RABBIT_CLI_PATH) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return -1;
+  std::string text;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) text.append(buffer, n);
+  const int status = pclose(pipe);
+  if (output != nullptr) *output = text;
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : -1;
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A CSV text without its last column (wall_s: not deterministic).
+std::string WithoutLastColumn(const std::string& text) {
+  std::istringstream in(text);
+  std::string line, out;
+  while (std::getline(in, line)) out += line.substr(0, line.rfind(',')) + "\n";
+  return out;
+}
+
+class TuneTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rabbit_tune_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // A short walker scenario: 12 s of the ramp up (about 15 steps), two gains.
+    Write("base.toml", "[params]\n\"simulation.duration\" = 12\n\"criteria.min_steps\" = 5\n");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  // A small job: `extra_job` lines go into [job], `parameters` replaces the two gains.
+  std::string Job(const std::string& extra_job = "", const std::string& parameters = "") {
+    return Write(
+        "job.toml",
+        "[job]\n"                                                              // 1
+        "suites = [\"" + kRoot + "/scenarios/tune_ramp.toml\"]\n"              // 2
+        "filter = \"^ramp_up$\"\n"                                             // 3
+        "params = \"base.toml\"\n"                                             // 4
+        "max_evaluations = 6\n" +                                              // 5
+            extra_job +
+            "[objective]\nspeed_error = 1.0\nfailure_rate = 0.2\n" +
+            (parameters.empty() ? "[[parameter]]\npath = \"controller.k_p\"\nlower = 0.0\n"
+                                  "upper = 0.6\n[[parameter]]\npath = \"controller.k_v\"\n"
+                                  "lower = 0.0\nupper = 0.4\n"
+                                : parameters));
+  }
+  void ExpectJobError(const std::string& extra_job, const std::string& parameters, int line,
+                      const std::string& key, const std::string& fragment) {
+    const std::string path = Job(extra_job, parameters);
+    try {
+      LoadTuneJob(path);
+      ADD_FAILURE() << "no error for " << extra_job << parameters;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), path) << e.what();
+      if (line >= 0) {
+        EXPECT_EQ(e.line(), line) << e.what();
+      }
+      EXPECT_EQ(e.key(), key) << e.what();
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+  fs::path dir_;
+};
+
+TEST_F(TuneTest, JobLoadsWithCurrentValuesAsInitial) {
+  const TuneJob job = LoadTuneJob(Job());
+  EXPECT_EQ(job.name, "job");
+  ASSERT_EQ(job.parameters.size(), 2u);
+  EXPECT_EQ(job.parameters[0].initial, 0.2);  // tune_ramp.toml's k_p
+  EXPECT_EQ(job.parameters[1].initial, 0.10);
+  EXPECT_EQ(job.algorithm, TuneAlgorithm::kBobyqa);
+  EXPECT_EQ(job.fingerprint.size(), 16u);
+}
+
+TEST_F(TuneTest, BadJobsAreInputErrors) {
+  const std::string one = "[[parameter]]\npath = \"controller.k_p\"\nlower = 0.0\nupper = 0.6\n";
+  // Parameters start at line 10 (after 5 [job] lines, the algorithm and 3 [objective] lines).
+  const std::string sbplx = "algorithm = \"sbplx\"\n";
+  ExpectJobError(sbplx, "[[parameter]]\npath = \"controller.k_pp\"\nlower = 0\nupper = 1\n", 10,
+                 "controller.k_pp", "names no numeric setting of scenario \"ramp_up\"");
+  ExpectJobError(sbplx, "[[parameter]]\npath = \"controller.k_p\"\nlower = 1.0\nupper = 0.5\n",
+                 12, "parameter[1].lower", "lower < upper");
+  ExpectJobError("algorithm = \"simplex\"\n", one, 6, "job.algorithm", "unknown algorithm");
+  ExpectJobError("", one, -1, "job.algorithm", "BOBYQA needs at least 2 parameters");
+  ExpectJobError("algorithm = \"sbplx\"\n",
+                 "[[parameter]]\npath = \"controller.k_p\"\nlower = 0.3\nupper = 0.6\n", 10,
+                 "controller.k_p", "outside [lower, upper]");
+  ExpectJobError("algorithm = \"sbplx\"\n",
+                 "[[parameter]]\npath = \"controller.k_p\"\nlower = 0\nupper = 1\ninitial = 2\n",
+                 14, "parameter[1].initial", "within [lower, upper]");
+  ExpectJobError("budget = 5\n", one, 6, "job.budget", "unknown key");
+  ExpectJobError("algorithm = \"sbplx\"\n", one + one, -1, "parameter[2].path", "tuned twice");
+}
+
+TEST_F(TuneTest, MoreBadJobs) {
+  const std::string one = "[[parameter]]\npath = \"controller.k_p\"\nlower = 0.0\nupper = 0.6\n";
+  // No weight > 0.
+  const std::string zero = Write(
+      "zero.toml", "[job]\nsuites = [\"" + kRoot + "/scenarios/tune_ramp.toml\"]\n"
+                   "algorithm = \"sbplx\"\n[objective]\nenergy = 0\n" + one);
+  EXPECT_THROW(LoadTuneJob(zero), InputError);
+  // Ceres needs a sum of squares.
+  const std::string ceres = Write(
+      "ceres.toml", "[job]\nsuites = [\"" + kRoot + "/scenarios/tune_ramp.toml\"]\n"
+                    "algorithm = \"ceres\"\n[objective]\nform = \"mean\"\nenergy = 1\n" + one);
+  try {
+    LoadTuneJob(ceres);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "objective.form");
+    EXPECT_EQ(e.line(), 5);
+  }
+  // A suite that does not exist.
+  const std::string missing =
+      Write("missing.toml", "[job]\nsuites = [\"nowhere.toml\"]\nalgorithm = \"sbplx\"\n"
+                            "[objective]\nenergy = 1\n" + one);
+  EXPECT_THROW(LoadTuneJob(missing), InputError);
+  // A filter matching no scenario.
+  const std::string nothing = Write(
+      "nothing.toml", "[job]\nsuites = [\"" + kRoot + "/scenarios/tune_ramp.toml\"]\n"
+                      "filter = \"^nothing$\"\nalgorithm = \"sbplx\"\n[objective]\nenergy = 1\n" +
+                          one);
+  try {
+    LoadTuneJob(nothing);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "job.filter");
+  }
+  // The CLI: exit 2, the file and the key in the message, nothing written.
+  std::string output;
+  EXPECT_EQ(RunCli("tune " +
+                       Job("algorithm = \"sbplx\"\n",
+                           "[[parameter]]\npath = \"controller.k_pp\"\nlower = 0\nupper = 1\n") +
+                       " --out " + (dir_ / "out").string(),
+                   &output),
+            2);
+  EXPECT_NE(output.find("job.toml:10: 'controller.k_pp'"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(dir_ / "out"));
+  EXPECT_EQ(RunCli("tune " + Job("algorithm = \"simplex\"\n"), &output), 2);
+  EXPECT_EQ(RunCli("tune " + Job() + " --shard 3/2", &output), 2);
+  EXPECT_EQ(RunCli("tune " + Job() + " --resume --force", &output), 2);
+}
+
+TEST_F(TuneTest, ObjectiveTermsFollowTheirDefinitions) {
+  TuneObjective o;
+  o.weight[kFailureRate] = 2.0;
+  o.weight[kSpeedError] = 10.0;
+  o.missing[kSpeedError] = 1.0;
+  Evaluation e;
+  RunScore a, b;
+  a.passed = true;
+  a.value = {0.0, 0.03, 0.01, 100.0, 0.4, 1.0};
+  b.passed = false;
+  b.value = {1.0, std::nan(""), 0.02, 50.0, std::nan(""), 0.0};
+  e.scores = {a, b};
+  ScoreEvaluation(o, &e);
+  EXPECT_EQ(e.runs, 2);
+  EXPECT_EQ(e.failed, 1);
+  EXPECT_DOUBLE_EQ(e.terms[kFailureRate], 0.5);
+  EXPECT_DOUBLE_EQ(e.terms[kSpeedError], (0.03 + 1.0) / 2);  // the missing value counts 1.0
+  EXPECT_DOUBLE_EQ(e.objective, 2.0 * 0.5 + 10.0 * (0.03 + 1.0) / 2);
+  o.squares = true;
+  ScoreEvaluation(o, &e);
+  EXPECT_DOUBLE_EQ(e.objective, 2.0 * 0.5 + 10.0 * (0.03 * 0.03 + 1.0) / 2);
+  Evaluation invalid;
+  invalid.error = "bad";
+  ScoreEvaluation(o, &invalid);
+  EXPECT_EQ(invalid.objective, kInvalidObjective);
+}
+
+TEST_F(TuneTest, ThreadsDoNotChangeTheResultAndTheBestIsTheMinimum) {
+  const TuneJob job = LoadTuneJob(Job());
+  TuneOptions one, two;
+  one.out = (dir_ / "one").string();
+  one.threads = 1;
+  one.html = false;
+  two = one;
+  two.out = (dir_ / "two").string();
+  two.threads = 2;
+  const TuneResult a = RunTune(job, one), b = RunTune(job, two);
+  ASSERT_EQ(a.evaluations.size(), 6u);
+  ASSERT_EQ(b.evaluations.size(), 6u);
+  for (size_t i = 0; i < a.evaluations.size(); ++i) {
+    EXPECT_EQ(a.evaluations[i].x, b.evaluations[i].x);
+    EXPECT_EQ(a.evaluations[i].objective, b.evaluations[i].objective);
+    EXPECT_LE(a.evaluations[a.best].objective, a.evaluations[i].objective);
+  }
+  EXPECT_EQ(a.evaluations[a.initial].x, (std::vector<double>{0.2, 0.1}));
+  EXPECT_EQ(ReadText(dir_ / "one" / "best.toml"), ReadText(dir_ / "two" / "best.toml"));
+  // The log holds what the result holds.
+  const CsvTable log = CsvTable::Read((dir_ / "one" / "evaluations.csv").string());
+  ASSERT_EQ(log.num_rows(), 6u);
+  EXPECT_EQ(log.Number(3, log.Column("objective")), a.evaluations[3].objective);
+  // Without --resume or --force an existing log is not touched.
+  EXPECT_THROW(RunTune(job, one), InputError);
+}
+
+TEST_F(TuneTest, KilledJobResumesToTheSameResult) {
+  const std::string job = Job();
+  const std::string whole = (dir_ / "whole").string(), cut = (dir_ / "cut").string();
+  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + whole), 0);
+  // Killed (SIGKILL) after 3 evaluations, in the middle of writing the 4th row.
+  const std::string command = "RABBIT_TUNE_KILL_AFTER=3 " + std::string(RABBIT_CLI_PATH) +
+                              " tune " + job + " -q --no-html --out " + cut + " > /dev/null 2>&1";
+  const int killed = std::system(command.c_str());
+  EXPECT_TRUE(WIFSIGNALED(killed) || (WIFEXITED(killed) && WEXITSTATUS(killed) == 128 + SIGKILL))
+      << killed;
+  EXPECT_FALSE(fs::exists(fs::path(cut) / "best.toml"));
+  const std::string partial = ReadText(fs::path(cut) / "evaluations.csv");
+  EXPECT_NE(partial.back(), '\n');  // a row cut short
+  std::string output;
+  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + cut, &output), 0) << output;
+  EXPECT_NE(output.find("replayed   3 evaluations"), std::string::npos) << output;
+  EXPECT_EQ(ReadText(fs::path(cut) / "best.toml"), ReadText(fs::path(whole) / "best.toml"));
+  EXPECT_EQ(WithoutLastColumn(ReadText(fs::path(cut) / "evaluations.csv")),
+            WithoutLastColumn(ReadText(fs::path(whole) / "evaluations.csv")));
+  EXPECT_EQ(ReadText(fs::path(cut) / "runs.csv"), ReadText(fs::path(whole) / "runs.csv"));
+  // A second resume replays everything and runs nothing.
+  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + cut, &output), 0);
+  EXPECT_NE(output.find("replayed   6 evaluations"), std::string::npos) << output;
+  // A changed job does not resume another's log.
+  const std::string changed = Job("seed = 2\n");
+  EXPECT_EQ(RunCli("tune " + changed + " --no-html --resume --out " + cut, &output), 2);
+  EXPECT_NE(output.find("fingerprint"), std::string::npos) << output;
+}
+
+TEST_F(TuneTest, ShardsMergeToTheSameResult) {
+  const std::string job = Job("starts = 2\n");
+  const std::string whole = (dir_ / "whole").string(), sharded = (dir_ / "sharded").string();
+  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + whole), 0);
+  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --shard 2/2 --out " + sharded), 0);
+  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --shard 1/2 --out " + sharded), 0);
+  EXPECT_FALSE(fs::exists(fs::path(sharded) / "best.toml"));
+  std::string output;
+  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + sharded, &output), 0) << output;
+  EXPECT_NE(output.find("replayed   6 evaluations"), std::string::npos) << output;
+  EXPECT_EQ(ReadText(fs::path(sharded) / "best.toml"), ReadText(fs::path(whole) / "best.toml"));
+  EXPECT_EQ(WithoutLastColumn(ReadText(fs::path(sharded) / "evaluations.csv")),
+            WithoutLastColumn(ReadText(fs::path(whole) / "evaluations.csv")));
+}
+
+TEST_F(TuneTest, BestTomlReproducesTheBestEvaluationInRabbitRun) {
+  const std::string job = Job();
+  const fs::path out = dir_ / "tune";
+  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + out.string()), 0);
+  // The suite with the job's base overlay and best.toml's values: rabbit run sees one overlay,
+  // so merge them (best.toml holds the base's values too).
+  const std::string best = ReadText(out / "best.toml");
+  EXPECT_NE(best.find("\"simulation.duration\" = 12"), std::string::npos) << best;
+  const fs::path report = dir_ / "report";
+  ASSERT_EQ(RunCli("run " + kRoot + "/scenarios/tune_ramp.toml --filter '^ramp_up$' -q --no-html" +
+                   " --params " + (out / "best.toml").string() + " --out " + report.string()),
+            0);
+  const CsvTable summary = CsvTable::Read((report / "summary.csv").string());
+  const CsvTable meta = CsvTable::Read((out / "meta.csv").string());
+  const CsvTable runs = CsvTable::Read((out / "runs.csv").string());
+  int best_eval = -1;
+  for (size_t r = 0; r < meta.num_rows(); ++r) {
+    if (meta.Text(r, 0) == "best_eval") best_eval = std::stoi(meta.Text(r, 1));
+  }
+  ASSERT_GE(best_eval, 0);
+  bool found = false;
+  for (size_t r = 0; r < runs.num_rows(); ++r) {
+    if (runs.Integer(r, 0) != best_eval) continue;
+    found = true;
+    // summary.csv writes 9 significant digits.
+    EXPECT_NEAR(runs.Number(r, runs.Column("speed_error")),
+                summary.Number(0, summary.Column("mean_abs_speed_error_m_s")), 1e-8);
+  }
+  EXPECT_TRUE(found);
+}
+
+TEST_F(TuneTest, InvalidCandidatesAreResultsNotCrashes) {
+  // d_obs Small's peak beyond its right foot (0.3 m) is invalid: the initial point is.
+  const TuneJob job = LoadTuneJob(
+      Job("algorithm = \"sbplx\"\n",
+          "[[parameter]]\npath = \"controller.sets.d_obs.Small.2\"\nlower = 0.0\nupper = 0.5\n"
+          "initial = 0.45\n"));
+  TuneOptions options;
+  options.out = (dir_ / "out").string();
+  options.html = false;
+  const TuneResult r = RunTune(job, options);
+  ASSERT_FALSE(r.evaluations.empty());
+  const Evaluation& first = r.evaluations[r.initial];
+  EXPECT_EQ(first.objective, kInvalidObjective);
+  EXPECT_NE(first.error.find("Small"), std::string::npos) << first.error;
+  EXPECT_EQ(first.runs, 0);
+}
+
+}  // namespace
+}  // namespace rabbit
