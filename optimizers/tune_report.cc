@@ -60,8 +60,6 @@ const char* const kInvalidColor = "#9a9a9a";
 // What the job wrote.
 
 struct Meta {
-  std::string file;
-  std::map<std::string, std::string> values;
   std::string job, description, job_file, algorithm, seed, starts, max_evaluations, form, weights,
       suites, evaluations, fingerprint;
   std::optional<int> initial_eval, best_eval;
@@ -131,7 +129,6 @@ Meta ReadMeta(const std::string& path) {
   const CsvTable table = CsvTable::Read(path);
   const size_t c_key = table.Column("key"), c_value = table.Column("value");
   Meta meta;
-  meta.file = path;
   std::map<std::string, size_t> rows;
   for (size_t r = 0; r < table.num_rows(); ++r) {
     const std::string key = table.Text(r, c_key);
@@ -140,7 +137,6 @@ Meta ReadMeta(const std::string& path) {
       throw InputError(path, table.line(r), "key",
                        "\"" + key + "\" also on line " + std::to_string(table.line(it->second)));
     }
-    meta.values[key] = table.Text(r, c_value);
   }
   auto row_of = [&](const std::string& key) {
     const auto it = rows.find(key);
@@ -794,7 +790,8 @@ td.num{font-variant-numeric:tabular-nums}
 td.error{text-align:left;white-space:normal;min-width:180px}
 td.pass{background:var(--pass);color:#16652a;font-weight:700}
 td.fail{background:var(--fail);color:#a3150f;font-weight:700}
-pre.toml{background:#f6f7f9;border:1px solid #e3e6ea;border-radius:4px;padding:10px 12px;font-size:13px;overflow-x:auto}
+pre.toml{background:#f6f7f9;border:1px solid #e3e6ea;border-radius:4px;padding:10px 12px;
+  font-size:13px;overflow-x:auto}
 ul.suites{margin:0;padding-left:18px}
 )css";
 
