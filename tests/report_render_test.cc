@@ -1,6 +1,7 @@
-// The batch-run report rendered by a real browser: headless Chromium loads the generated
-// index.html; every replay has drawn its first frame, no script error was raised, the figures
-// are in the DOM; and a screenshot of the page is taken (a non-trivial PNG).
+// The reports rendered by a real browser: headless Chromium loads the generated index.html of a
+// batch run; every replay has drawn its first frame, no script error was raised, the figures
+// are in the DOM; and a screenshot of the page is taken (a non-trivial PNG). And the tuning job's
+// page: no script error, and every figure decodes as an image.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -11,6 +12,8 @@
 
 #include "rabbit/report/suite_report.h"
 #include "report_fixture.h"
+#include "tune_fixture.h"
+#include "tune_report.h"
 
 namespace rabbit {
 namespace {
@@ -127,6 +130,54 @@ TEST(ReportRenderTest, ChromiumDrawsEveryReplayWithoutErrors) {
   EXPECT_EQ(image.compare(0, 8, "\x89PNG\r\n\x1a\n"), 0);
   const size_t kMinBytes = 50000;  // a blank 1400 x 3000 page compresses to a few kB
   EXPECT_GT(image.size(), kMinBytes);
+  if (std::getenv("RABBIT_KEEP_REPORT") == nullptr) {
+    fs::remove_all(dir);
+  } else {
+    std::printf("kept %s\n", dir.c_str());
+  }
+}
+
+TEST(ReportRenderTest, ChromiumRendersTheTuningPageWithoutErrors) {
+  const std::string chromium = FindOnPath({"chromium", "chromium-browser"});
+  if (chromium.empty()) {
+    GTEST_SKIP() << "neither chromium nor chromium-browser is on PATH: the page is not rendered";
+  }
+  const fs::path dir =
+      fs::temp_directory_path() / ("rabbit_tune_render_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  testing::WriteTuneFixture(dir.string());
+  std::vector<std::string> warnings;
+  WriteTuneReport(dir.string(), TuneReportOptions{}, &warnings);
+  const int figures = warnings.empty() ? 3 : 0;  // no gnuplot: none
+
+  // A copy of the page that counts, once loaded, the images the browser could decode: an SVG
+  // gnuplot wrote badly (say, an unescaped name) would load as a broken image.
+  std::string harness = ReadText((dir / "index.html").string());
+  harness.replace(harness.rfind("</body>"), 7,
+                  "<script>window.addEventListener('load',function(){var n=0;"
+                  "for(var i=0;i<document.images.length;i++){var im=document.images[i];"
+                  "if(im.complete&&im.naturalWidth>0)n++;}"
+                  "document.documentElement.dataset.decoded=String(n);});</script></body>");
+  const fs::path page = dir / "check.html";
+  testing::WriteText(page.string(), harness);
+  const std::string browser = "timeout 60 " + ShellQuote(chromium) +
+                              " --headless --no-sandbox --disable-gpu --hide-scrollbars "
+                              "--user-data-dir=" +
+                              ShellQuote((dir / "profile").string()) + " ";
+  std::string dom;
+  ASSERT_EQ(RunCommand(browser + "--virtual-time-budget=2000 --dump-dom " +
+                           ShellQuote("file://" + page.string()),
+                       &dom),
+            0)
+      << "chromium failed";
+  const size_t html = dom.find("<html");
+  ASSERT_NE(html, std::string::npos) << dom.substr(0, 500);
+  const std::string root = dom.substr(html, dom.find('>', html) - html);
+  EXPECT_NE(root.find("data-js-errors=\"0\""), std::string::npos) << root;
+  EXPECT_NE(root.find("data-decoded=\"" + std::to_string(figures) + "\""), std::string::npos)
+      << root;
+  EXPECT_EQ(Count(dom, "<img class=\"fig\""), figures);
+  EXPECT_NE(dom.find("<h1>Tuning job <em>walk_gains</em></h1>"), std::string::npos);
   if (std::getenv("RABBIT_KEEP_REPORT") == nullptr) {
     fs::remove_all(dir);
   } else {
