@@ -97,7 +97,7 @@ ParamOverlay TuneJob::Overlay(const std::vector<double>& x) const {
   return overlay;
 }
 
-TuneJob LoadTuneJob(const std::string& path) {
+TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* params) {
   TomlReader root = TomlReader::ParseFile(path);
   TuneJob job;
   job.file = path;
@@ -123,6 +123,18 @@ TuneJob LoadTuneJob(const std::string& path) {
   }
   const std::string base = head.String("params", "");
   if (!base.empty()) job.base = LoadParamOverlay(resolve(base));
+  if (params != nullptr) {
+    for (const ParamValue& v : params->values) {
+      bool replaced = false;
+      for (ParamValue& mine : job.base.values) {
+        if (mine.path == v.path) {
+          mine = v;
+          replaced = true;
+        }
+      }
+      if (!replaced) job.base.values.push_back(v);
+    }
+  }
   const std::string algorithm = head.String("algorithm", "bobyqa");
   bool known = false;
   for (const AlgorithmName& n : kAlgorithms) {
@@ -231,7 +243,7 @@ TuneJob LoadTuneJob(const std::string& path) {
   // default initial value.
   std::uint64_t h = Fnv1a(std::string("rabbit-tune/1 ") + RABBIT_VERSION, 0xCBF29CE484222325ULL);
   h = Fnv1a(FileText(path), h);
-  if (!base.empty()) h = Fnv1a(FileText(resolve(base)), h);
+  for (const ParamValue& v : job.base.values) h = Fnv1a(v.path + "=" + ExactNumber(v.value) + ";", h);
   for (const std::string& suite_path : job.suites) {
     h = Fnv1a(FileText(suite_path), h);
     std::vector<std::map<std::string, double>> settings;

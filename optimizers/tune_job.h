@@ -89,7 +89,8 @@ struct TuneJob {
 // scenario of the suites (it must name a numeric setting of each; its current value is the
 // default initial value, which must then be the same in every scenario). Throws InputError naming
 // the job file, line and key.
-TuneJob LoadTuneJob(const std::string& path);
+// `params` (may be null): an overlay over the job's own `params` (rabbit tune --params).
+TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* params = nullptr);
 
 }  // namespace rabbit
 

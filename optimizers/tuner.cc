@@ -726,6 +726,7 @@ void WriteOutputs(const TuneJob& job, const fs::path& dir, const TuneResult& res
   });
   if (options.html) {
     TuneReportOptions report;
+    report.gnuplot = options.gnuplot;
     WriteTuneReport(dir.string(), report, warnings);
   }
 }

@@ -61,6 +61,7 @@ struct TuneOptions {
   Shard shard;
   bool quiet = false;
   bool html = true;
+  std::string gnuplot = "gnuplot";  // for the report's figures
   // Called on rank 0 after every evaluation is logged (progress, tests).
   std::function<void(const Evaluation&)> on_evaluation;
 };

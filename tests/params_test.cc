@@ -53,7 +53,9 @@ TEST_F(ParamsTest, NestedQuotedAndArrayFormsSpellTheSamePaths) {
   EXPECT_EQ(patches.at("controller.sets.d_obs.Small.2"), 0.12);
   EXPECT_EQ(patches.at("controller.sets.d_obs.Small.3"), 0.3);
   for (const ParamValue& v : o.values) {
-    if (v.path == "controller.k_p") EXPECT_EQ(v.line, 2);
+    if (v.path == "controller.k_p") {
+      EXPECT_EQ(v.line, 2);
+    }
   }
 }
 
@@ -75,7 +77,9 @@ TEST_F(ParamsTest, BadOverlayFilesAreInputErrors) {
       ADD_FAILURE() << "no error for " << c.text;
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find(c.fragment), std::string::npos) << e.what();
-      if (c.line > 0) EXPECT_EQ(e.line(), c.line) << e.what();
+      if (c.line > 0) {
+        EXPECT_EQ(e.line(), c.line) << e.what();
+      }
     }
   }
 }

@@ -19,6 +19,7 @@ namespace {
 struct TuneArgs {
   std::string job;
   std::string shard;
+  std::string params;
   TuneOptions options;
 };
 
@@ -32,7 +33,9 @@ int RunTuneCommand(TuneArgs args) {
       throw InputError("--shard", 0, args.shard, error);
     }
   }
-  const TuneJob job = LoadTuneJob(args.job);
+  ParamOverlay overlay;
+  if (!args.params.empty()) overlay = LoadParamOverlay(args.params);
+  const TuneJob job = LoadTuneJob(args.job, &overlay);
   const bool talk = !args.options.quiet && Ranks::root();
   if (talk) {
     std::printf("job        %s (%s): %s, %zu parameters, budget %d evaluations, %d search%s, seed "
@@ -93,6 +96,9 @@ Command RegisterTune(CLI::App* app) {
   cmd->add_option("--out,-o", args->options.out, "Output folder (default reports/<job name>)");
   cmd->add_option("--jobs,-j", args->options.threads, "Threads per process (default: all cores)")
       ->check(CLI::Range(0, 1024));
+  cmd->add_option("--params", args->params,
+                  "Parameter overlay under the tuned values (over the job's own `params`)");
+  cmd->add_option("--gnuplot", args->options.gnuplot, "gnuplot executable for the figures");
   cmd->add_flag("--resume", args->options.resume,
                 "Continue the job's log (after an interruption, or to merge shards)");
   cmd->add_flag("--force", args->options.force, "Discard an existing log and start over");
