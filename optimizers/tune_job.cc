@@ -97,7 +97,7 @@ ParamOverlay TuneJob::Overlay(const std::vector<double>& x) const {
   return overlay;
 }
 
-TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* params) {
+TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   TomlReader root = TomlReader::ParseFile(path);
   TuneJob job;
   job.file = path;
@@ -123,8 +123,8 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* params) {
   }
   const std::string base = head.String("params", "");
   if (!base.empty()) job.base = LoadParamOverlay(resolve(base));
-  if (params != nullptr) {
-    for (const ParamValue& v : params->values) {
+  if (extra != nullptr) {
+    for (const ParamValue& v : extra->values) {
       bool replaced = false;
       for (ParamValue& mine : job.base.values) {
         if (mine.path == v.path) {
