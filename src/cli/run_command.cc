@@ -6,6 +6,7 @@
 // and rank 0 alone writes (rabbit/report/rank_batch.h). With --shard I/N only the jobs i with
 // i mod N = I - 1 run, into DIR/shards/I-of-N/, which rabbit report DIR merges
 // (rabbit/report/shards.h).
+#include <sched.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -60,12 +61,19 @@ std::string DefaultSuite() {
   return fs::exists(shipped) ? shipped.string() : kDefaultSuite;
 }
 
-// --jobs counts threads per rank. By default a process takes all cores, and ranks on one machine
-// share its cores (mpirun -np 2 on 2 cores: one thread each, not two).
+// --jobs counts threads per rank. By default one process takes all cores; under mpirun the ranks
+// of a machine share its cores, and a rank that mpirun bound to some cores (its default for up
+// to 2 ranks: one core each) takes only those rather than crowd threads onto them.
 int ThreadsPerRank(int jobs) {
-  if (jobs > 0 || Ranks::local_size() <= 1) return jobs;
+  if (jobs > 0 || Ranks::size() == 1) return jobs;
   const int cores = static_cast<int>(std::thread::hardware_concurrency());
-  return std::max(1, cores / Ranks::local_size());
+  int threads = cores / Ranks::local_size();
+  cpu_set_t mask;
+  CPU_ZERO(&mask);
+  if (::sched_getaffinity(0, sizeof mask, &mask) == 0) {
+    threads = std::min(threads, CPU_COUNT(&mask));
+  }
+  return std::max(1, threads);
 }
 
 // Removes a staging folder unless released (only rank 0 has one: the path is empty elsewhere).
