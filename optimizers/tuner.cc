@@ -89,12 +89,13 @@ class Evaluator {
     }
     std::string text;
     std::vector<std::string> lines(mine.size());
-    if (!mine.empty()) {
+    RunAgreed([&] {  // a rank whose runs threw cannot leave the others in the gather
+      if (mine.empty()) return;
       RunBatch(mine, threads_, &libraries_, [&](size_t i, RunOutput&& run) {
         const auto& [c, j] = items[mine_items[i]];
         lines[i] = Serialise(mine_items[i], Score(candidates[c]->job_suite[j], run));
       });
-    }
+    });
     for (const std::string& l : lines) text += l;
     std::vector<RunScore> scores(items.size());
     for (const std::string& part : Ranks::AllGather(text)) Parse(part, items, candidates, &scores);

@@ -361,3 +361,102 @@ TEST_F(CliTest, RunBadInputExitsTwoAndLeavesNoReport) {
       2);
   EXPECT_FALSE(fs::exists(out));
 }
+
+TEST_F(CliTest, ShardsMergedByReportEqualAnUnshardedRun) {
+  const std::string suite = Write("small.toml", SmallSuite(""));
+  const fs::path one = dir_ / "one", merged = dir_ / "merged";
+  ASSERT_EQ(RunCli("run " + suite + " --no-html -q --out " + one.string()).code, 0);
+  // Shard 1 of 2 takes jobs 0 and 2 (walk, second), shard 2 job 1 (walk+nearest_gait).
+  const CliRun first = RunCli("run " + suite + " --shard 1/2 --out " + merged.string());
+  ASSERT_EQ(first.code, 0) << first.output;
+  EXPECT_NE(first.output.find("shard 1/2, 2 of 3 runs"), std::string::npos) << first.output;
+  const fs::path shard1 = merged / "shards" / "1-of-2";
+  for (const char* file : {".rabbit-shard", "summary.csv", "walk/steps.csv", "second/meta.csv"}) {
+    EXPECT_TRUE(fs::exists(shard1 / file)) << file;
+  }
+  EXPECT_FALSE(fs::exists(shard1 / "walk+nearest_gait"));
+  EXPECT_FALSE(fs::exists(shard1 / "index.html"));
+  EXPECT_FALSE(fs::exists(merged / "summary.csv"));  // the main report is not touched
+  const std::string marker = ReadFile(shard1 / ".rabbit-shard");
+  EXPECT_EQ(marker.rfind("rabbit-shard/1\nsuite = small\nshard = 1/2\nplan = ", 0), 0u) << marker;
+  EXPECT_NE(marker.find("\njobs = 3\nruns = 2\n"), std::string::npos) << marker;
+  EXPECT_EQ(ReadFile(shard1 / "summary.csv").find("\n1,"), std::string::npos);  // not its job
+  ASSERT_EQ(RunCli("run " + suite + " --shard 2/2 -q --out " + merged.string() + "/").code, 0);
+  EXPECT_TRUE(fs::exists(shard1 / "walk")) << "shard 2 touched shard 1";
+
+  const CliRun report = RunCli("report " + merged.string());
+  ASSERT_EQ(report.code, 0) << report.output;
+  EXPECT_NE(report.output.find("merged 2 shard(s) of suite small: 3 runs"), std::string::npos)
+      << report.output;
+  EXPECT_EQ(WithoutWallTime(ReadFile(one / "summary.csv")),
+            WithoutWallTime(ReadFile(merged / "summary.csv")));
+  for (const char* run : {"walk", "walk+nearest_gait", "second"}) {
+    for (const char* file : {"steps.csv", "trajectory.csv", "meta.csv", "tracking.csv"}) {
+      EXPECT_EQ(ReadFile(one / run / file), ReadFile(merged / run / file)) << run << "/" << file;
+    }
+  }
+  EXPECT_FALSE(fs::exists(merged / "shards"));
+  EXPECT_TRUE(fs::exists(merged / "index.html"));
+  EXPECT_EQ(ReadFile(merged / ".rabbit-report"), ReadFile(one / ".rabbit-report"));
+  for (const auto& entry : fs::directory_iterator(dir_)) {
+    EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos);
+  }
+  // The merged folder is a report again: rebuilt by rabbit report, replaced by rabbit run.
+  EXPECT_EQ(RunCli("report -q " + merged.string()).code, 0);
+  EXPECT_EQ(RunCli("run " + suite + " --no-html -q --out " + merged.string()).code, 0);
+}
+
+TEST_F(CliTest, ShardBadInputExitsTwoAndWritesNothing) {
+  const std::string suite = Write("small.toml", SmallSuite(""));
+  const fs::path out = dir_ / "report";
+  for (const char* shard : {"3/2", "0/2", "1/0", "2", "a/b", "1/2/3"}) {
+    const CliRun r = RunCli("run " + suite + " --shard " + shard + " --out " + out.string());
+    EXPECT_EQ(r.code, 2) << shard << r.output;
+    EXPECT_NE(r.output.find("--shard expects I/N"), std::string::npos) << r.output;
+    EXPECT_FALSE(fs::exists(out)) << shard;
+  }
+  // A folder that is neither a report nor a folder of shards is not written into.
+  fs::create_directories(dir_ / "precious");
+  std::ofstream(dir_ / "precious" / "thesis.tex") << "keep me";
+  const CliRun refused =
+      RunCli("run " + suite + " --shard 1/2 --out " + (dir_ / "precious").string());
+  EXPECT_EQ(refused.code, 2) << refused.output;
+  EXPECT_FALSE(fs::exists(dir_ / "precious" / "shards"));
+  // An unsharded run does not replace a folder of shards: merge it first.
+  ASSERT_EQ(RunCli("run " + suite + " --shard 1/2 -q --out " + out.string()).code, 0);
+  const CliRun unsharded = RunCli("run " + suite + " --no-html --out " + out.string());
+  EXPECT_EQ(unsharded.code, 2) << unsharded.output;
+  EXPECT_NE(unsharded.output.find("rabbit report"), std::string::npos) << unsharded.output;
+  EXPECT_TRUE(fs::exists(out / "shards" / "1-of-2" / "walk"));
+}
+
+TEST_F(CliTest, ReportRefusesAnIncompleteOrMixedSetOfShards) {
+  const std::string suite = Write("small.toml", SmallSuite(""));
+  const fs::path out = dir_ / "report";
+  ASSERT_EQ(RunCli("run " + suite + " --shard 1/3 -q --out " + out.string()).code, 0);
+  ASSERT_EQ(RunCli("run " + suite + " --shard 3/3 -q --out " + out.string()).code, 0);
+  const CliRun missing = RunCli("report " + out.string());
+  EXPECT_EQ(missing.code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("missing shard(s) 2-of-3"), std::string::npos) << missing.output;
+  // Nothing changed.
+  EXPECT_TRUE(fs::exists(out / "shards" / "1-of-3" / "walk" / "steps.csv"));
+  EXPECT_TRUE(fs::exists(out / "shards" / "3-of-3" / "second" / "steps.csv"));
+  EXPECT_FALSE(fs::exists(out / "summary.csv"));
+  EXPECT_FALSE(fs::exists(out / "index.html"));
+  // Shard 2 of another plan (another --filter) does not complete the set; nor does another N.
+  ASSERT_EQ(RunCli("run " + suite + " --filter walk --shard 2/3 -q --out " + out.string()).code, 0);
+  const CliRun mixed = RunCli("report " + out.string());
+  EXPECT_EQ(mixed.code, 2) << mixed.output;
+  EXPECT_NE(mixed.output.find("another plan"), std::string::npos) << mixed.output;
+  ASSERT_EQ(RunCli("run " + suite + " --shard 2/2 -q --out " + out.string()).code, 0);
+  const CliRun counts = RunCli("report " + out.string());
+  EXPECT_EQ(counts.code, 2) << counts.output;
+  EXPECT_NE(counts.output.find("different counts"), std::string::npos) << counts.output;
+  EXPECT_FALSE(fs::exists(out / "summary.csv"));
+  // With the stray shards gone and shard 2 run again, the set merges.
+  fs::remove_all(out / "shards" / "2-of-2");
+  ASSERT_EQ(RunCli("run " + suite + " --shard 2/3 -q --out " + out.string()).code, 0);
+  const CliRun complete = RunCli("report -q " + out.string());
+  EXPECT_EQ(complete.code, 0) << complete.output;
+  EXPECT_TRUE(fs::exists(out / "walk+nearest_gait" / "steps.csv"));
+}

@@ -210,6 +210,8 @@ TEST_F(SuiteTest, ReviewFindings) {
   // Names taken by the report's own files.
   ExpectError(Walker("[[scenario]]\nname = \"summary.csv\"\n"), 13, "scenario[1].name",
               "taken by the report");
+  ExpectError(Walker("[[scenario]]\nname = \"shards\"\n"), 13, "scenario[1].name",
+              "taken by the report");  // where a sharded run's parts wait for their merge
   // A constant profile with both a value and points.
   ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.velocity]\nvalue = 0.5\n"
                      "points = [[0, 0.6]]\n"),

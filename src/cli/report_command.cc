@@ -1,16 +1,24 @@
 // rabbit report DIR [--gnuplot PATH]: rebuilds DIR/index.html from the CSV files a batch run wrote
-// (summary.csv and each run's folder), without re-running anything.
+// (summary.csv and each run's folder), or a tuning job (rabbit tune), without re-running anything. When DIR holds the shards of
+// a sharded run (DIR/shards/I-of-N), first merges them into DIR (rabbit/report/shards.h).
 #include <cstdio>
+#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <string>
 #include <vector>
 
 #include "cli/commands.h"
+#include "rabbit/report/shards.h"
 #include "rabbit/report/suite_report.h"
+#include "rabbit/io/error.h"
+#include "rabbit/scenario/ranks.h"
+#include "tune_report.h"
 
 namespace rabbit::cli {
 namespace {
+
+namespace fs = std::filesystem;
 
 struct ReportArgs {
   std::string dir;
@@ -18,17 +26,60 @@ struct ReportArgs {
   bool quiet = false;
 };
 
-int RunReport(const ReportArgs& args) {
+int Report(const ReportArgs& args) {
   std::string error;
   if (!args.options.IsValid(&error)) {
     std::cerr << "rabbit report: " << error << "\n";
     return 2;
   }
   std::vector<std::string> warnings;
+  if (fs::exists(fs::path(args.dir) / ".rabbit-tune")) {  // a tuning job's folder
+    if (!fs::exists(fs::path(args.dir) / "meta.csv")) {
+      throw InputError(args.dir, 0, "", "a tuning job that has not finished (or only its shards): "
+                                        "finish it with rabbit tune JOB --resume");
+    }
+    TuneReportOptions options;
+    options.gnuplot = args.options.gnuplot;
+    WriteTuneReport(args.dir, options, &warnings);
+    for (const std::string& w : warnings) std::cerr << "rabbit report: warning: " << w << "\n";
+    if (!args.quiet) std::printf("wrote %s\n", (fs::path(args.dir) / "index.html").c_str());
+    return 0;
+  }
+  if (HasShards(args.dir)) {
+    std::string label = fs::path(args.dir).lexically_normal().string();
+    if (label.size() > 1 && label.back() == '/') label.pop_back();
+    const MergedShards merged = MergeShards(args.dir, [&](const std::string& staging) {
+      SuiteReportOptions options = args.options;
+      options.source_label = label;
+      WriteSuiteReport(staging, options, &warnings);
+    });
+    for (const std::string& w : warnings) std::cerr << "rabbit report: warning: " << w << "\n";
+    if (!args.quiet) {
+      std::printf("merged %d shard(s) of suite %s: %zu runs\nwrote %s\n", merged.count,
+                  merged.suite.c_str(), merged.runs, (fs::path(label) / "index.html").c_str());
+    }
+    // The verdict rabbit run would have given the whole suite.
+    if (merged.failed_required > 0) {
+      std::cerr << "rabbit report: " << merged.failed_required
+                << " required scenario(s) failed their criteria\n";
+      return 1;
+    }
+    return 0;
+  }
   const std::string page = WriteSuiteReport(args.dir, args.options, &warnings);
   for (const std::string& w : warnings) std::cerr << "rabbit report: warning: " << w << "\n";
   if (!args.quiet) std::printf("wrote %s\n", page.c_str());
   return 0;
+}
+
+// Under mpirun every rank would write the same files: rank 0 does the work, the others take its
+// exit code.
+int RunReport(const ReportArgs& args) {
+  int code = 2;
+  RunAgreed([&] {
+    if (Ranks::root()) code = Report(args);
+  });
+  return std::stoi(Ranks::Broadcast(std::to_string(code)));
 }
 
 }  // namespace
@@ -36,8 +87,11 @@ int RunReport(const ReportArgs& args) {
 Command RegisterReport(CLI::App* app) {
   auto args = std::make_shared<ReportArgs>();
   CLI::App* cmd = app->add_subcommand(
-      "report", "Rebuild the HTML report of a batch run (DIR/index.html) from its CSV files");
-  cmd->add_option("dir", args->dir, "Report directory written by `rabbit run` (has summary.csv)")
+      "report",
+      "Rebuild the HTML report of a batch run or a tuning job (DIR/index.html) from its CSV "
+      "files, merging the shards of a sharded run (DIR/shards) first");
+  cmd->add_option("dir", args->dir,
+                  "Report directory written by `rabbit run` (has summary.csv, or shards/ to merge)")
       ->required();
   cmd->add_option("--gnuplot", args->options.gnuplot,
                   "gnuplot executable for the figures (default: gnuplot on PATH); without it "

@@ -33,9 +33,14 @@ int RunTuneCommand(TuneArgs args) {
       throw InputError("--shard", 0, args.shard, error);
     }
   }
-  ParamOverlay overlay;
-  if (!args.params.empty()) overlay = LoadParamOverlay(args.params);
-  const TuneJob job = LoadTuneJob(args.job, &overlay);
+  // Every rank loads the job; a rank that fails alone cannot leave the others waiting.
+  TuneJob job;
+  RunAgreed([&] {
+    ParamOverlay overlay;
+    if (!args.params.empty()) overlay = LoadParamOverlay(args.params);
+    job = LoadTuneJob(args.job, &overlay);
+  });
+  args.options.threads = ThreadsPerRank(args.options.threads);
   const bool talk = !args.options.quiet && Ranks::root();
   if (talk) {
     std::printf("job        %s (%s): %s, %zu parameters, budget %d evaluations, %d search%s, seed "

@@ -1,6 +1,11 @@
 #include "rabbit/scenario/ranks.h"
 
+#include <sched.h>
+
+#include <algorithm>
 #include <cstdlib>
+#include <thread>
+#include <exception>
 #include <stdexcept>
 
 #ifdef RABBIT_WITH_MPI
@@ -12,6 +17,7 @@ namespace {
 
 int g_rank = 0;
 int g_size = 1;
+int g_local_size = 1;
 [[maybe_unused]] bool g_initialised = false;  // we called MPI_Init_thread (and so must finalise)
 
 }  // namespace
@@ -41,6 +47,10 @@ void Ranks::Init(int* argc, char*** argv) {
   }
   MPI_Comm_rank(MPI_COMM_WORLD, &g_rank);
   MPI_Comm_size(MPI_COMM_WORLD, &g_size);
+  MPI_Comm local;
+  MPI_Comm_split_type(MPI_COMM_WORLD, MPI_COMM_TYPE_SHARED, 0, MPI_INFO_NULL, &local);
+  MPI_Comm_size(local, &g_local_size);
+  MPI_Comm_free(&local);
 #else
   (void)argc;
   (void)argv;
@@ -60,6 +70,7 @@ void Ranks::Finalize() {
 
 int Ranks::rank() { return g_rank; }
 int Ranks::size() { return g_size; }
+int Ranks::local_size() { return g_local_size; }
 
 std::vector<std::string> Ranks::AllGather(const std::string& mine) {
   if (g_size == 1) return {mine};
@@ -80,6 +91,35 @@ std::vector<std::string> Ranks::AllGather(const std::string& mine) {
   MPI_Allgatherv(mine.data(), static_cast<int>(length), MPI_CHAR, all.data(), counts.data(),
                  offsets.data(), MPI_CHAR, MPI_COMM_WORLD);
   std::vector<std::string> out;
+  for (int r = 0; r < g_size; ++r) out.push_back(all.substr(offsets[r], counts[r]));
+  return out;
+#else
+  return {mine};
+#endif
+}
+
+std::vector<std::string> Ranks::Gather(const std::string& mine) {
+  if (g_size == 1) return {mine};
+#ifdef RABBIT_WITH_MPI
+  // Every rank learns every length, so that all of them refuse an oversized gather together
+  // (a throw on rank 0 alone would leave the others inside MPI_Gatherv).
+  const long long length = static_cast<long long>(mine.size());
+  std::vector<long long> lengths(static_cast<size_t>(g_size));
+  MPI_Allgather(&length, 1, MPI_LONG_LONG, lengths.data(), 1, MPI_LONG_LONG, MPI_COMM_WORLD);
+  std::vector<int> counts(static_cast<size_t>(g_size)), offsets(static_cast<size_t>(g_size));
+  long long total = 0;
+  for (int r = 0; r < g_size; ++r) {
+    if (lengths[r] > (1LL << 30)) throw std::runtime_error("MPI: a rank's results exceed 1 GiB");
+    counts[r] = static_cast<int>(lengths[r]);
+    offsets[r] = static_cast<int>(total);
+    total += lengths[r];
+  }
+  if (total > (1LL << 31) - 1) throw std::runtime_error("MPI: gathered results exceed 2 GiB");
+  std::string all(g_rank == 0 ? static_cast<size_t>(total) : 0, '\0');
+  MPI_Gatherv(mine.data(), static_cast<int>(length), MPI_CHAR, all.data(), counts.data(),
+              offsets.data(), MPI_CHAR, 0, MPI_COMM_WORLD);
+  std::vector<std::string> out;
+  if (g_rank != 0) return out;
   for (int r = 0; r < g_size; ++r) out.push_back(all.substr(offsets[r], counts[r]));
   return out;
 #else
@@ -116,6 +156,40 @@ void Ranks::Abort(int code) {
   if (g_size > 1) MPI_Abort(MPI_COMM_WORLD, code);
 #endif
   std::exit(code);
+}
+
+void RunAgreed(const std::function<void()>& step) {
+  std::exception_ptr error;
+  std::string message;
+  try {
+    step();
+  } catch (const std::exception& e) {
+    error = std::current_exception();
+    message = e.what();
+  } catch (...) {
+    error = std::current_exception();
+  }
+  if (Ranks::AllTrue(!error)) return;
+  if (message.empty() && error) message = "unknown error";
+  const std::vector<std::string> messages = Ranks::AllGather(message);
+  if (error) std::rethrow_exception(error);
+  for (size_t r = 0; r < messages.size(); ++r) {
+    if (!messages[r].empty())
+      throw std::runtime_error("rank " + std::to_string(r) + ": " + messages[r]);
+  }
+  throw std::runtime_error("another rank failed");
+}
+
+int ThreadsPerRank(int jobs) {
+  if (jobs > 0 || Ranks::size() == 1) return jobs;
+  const int cores = static_cast<int>(std::thread::hardware_concurrency());
+  int threads = cores / Ranks::local_size();
+  cpu_set_t mask;
+  CPU_ZERO(&mask);
+  if (::sched_getaffinity(0, sizeof mask, &mask) == 0) {
+    threads = std::min(threads, CPU_COUNT(&mask));
+  }
+  return std::max(1, threads);
 }
 
 bool ParseShard(const std::string& text, Shard* shard, std::string* error) {

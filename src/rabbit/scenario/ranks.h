@@ -9,6 +9,7 @@
 #ifndef RABBIT_SCENARIO_RANKS_H_
 #define RABBIT_SCENARIO_RANKS_H_
 
+#include <functional>
 #include <string>
 #include <vector>
 
@@ -23,10 +24,14 @@ class Ranks {
   static void Finalize();
   static int rank();
   static int size();
+  // The ranks on this machine (MPI_COMM_TYPE_SHARED), which share its cores.
+  static int local_size();
   static bool root() { return rank() == 0; }
   static bool built_with_mpi();
   // Every rank's string, in rank order (a collective).
   static std::vector<std::string> AllGather(const std::string& mine);
+  // Every rank's string, in rank order, on rank 0; an empty vector elsewhere (a collective).
+  static std::vector<std::string> Gather(const std::string& mine);
   // Rank 0's string on every rank (a collective).
   static std::string Broadcast(const std::string& from_root);
   // The logical AND over ranks (a collective): e.g. "every rank loaded its input".
@@ -34,6 +39,17 @@ class Ranks {
   // Ends every rank (MPI_Abort) after a failure that only some ranks saw; exits otherwise.
   [[noreturn]] static void Abort(int code);
 };
+
+// Runs step() on every rank and agrees on how it went (a collective): when it threw on any rank,
+// it throws on every rank (its own exception where it failed; elsewhere a std::runtime_error with
+// the first failing rank's message, which rank 0 prints), so a rank that failed alone cannot leave
+// the others waiting in a later collective. One process: step() as is.
+void RunAgreed(const std::function<void()>& step);
+
+// Threads per rank for --jobs N (0: the default). One process takes all cores; under mpirun the
+// ranks of a machine share its cores, and a rank that mpirun bound to some cores (its default for
+// up to 2 ranks: one core each) takes only those rather than crowd threads onto them.
+int ThreadsPerRank(int jobs);
 
 struct Shard {
   int index = 1, count = 1;  // 1-based: shard `index` of `count`

@@ -1,0 +1,315 @@
+#include "rabbit/report/rank_batch.h"
+
+#include <stdlib.h>
+
+#include <algorithm>
+#include <array>
+#include <cerrno>
+#include <cstdint>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <stdexcept>
+#include <string_view>
+#include <system_error>
+
+#include "rabbit/report/run_files.h"
+#include "rabbit/scenario/ranks.h"
+
+namespace rabbit {
+namespace {
+
+namespace fs = std::filesystem;
+
+// At most this much reaches rank 0 in one round of the transfer, whatever the number of ranks
+// (MPI counts are ints, and rank 0 holds a round in memory).
+constexpr size_t kRoundBytes = size_t{256} << 20;
+
+// Messages between ranks: fixed-width numbers and length-prefixed strings in this machine's byte
+// order (the ranks of a job run one binary on one kind of machine).
+class Packer {
+ public:
+  void U64(std::uint64_t v) { Raw(&v, sizeof v); }
+  void F64(double v) { Raw(&v, sizeof v); }
+  void Str(std::string_view s) {
+    U64(s.size());
+    text_.append(s.data(), s.size());
+  }
+  size_t size() const { return text_.size(); }
+  const std::string& text() const { return text_; }
+
+ private:
+  void Raw(const void* data, size_t n) { text_.append(static_cast<const char*>(data), n); }
+  std::string text_;
+};
+
+class Unpacker {
+ public:
+  explicit Unpacker(const std::string& text) : text_(text) {}
+  std::uint64_t U64() {
+    std::uint64_t v = 0;
+    Raw(&v, sizeof v);
+    return v;
+  }
+  double F64() {
+    double v = 0.0;
+    Raw(&v, sizeof v);
+    return v;
+  }
+  std::string Str() {
+    const std::uint64_t n = U64();
+    Need(n);
+    std::string s = text_.substr(pos_, static_cast<size_t>(n));
+    pos_ += static_cast<size_t>(n);
+    return s;
+  }
+
+ private:
+  void Need(std::uint64_t n) const {
+    if (n > text_.size() - pos_) throw std::runtime_error("MPI: a truncated message between ranks");
+  }
+  void Raw(void* data, size_t n) {
+    Need(n);
+    std::memcpy(data, text_.data() + pos_, n);
+    pos_ += n;
+  }
+  const std::string& text_;
+  size_t pos_ = 0;
+};
+
+std::array<double*, 11> MetricFields(RunMetrics* m) {
+  return {&m->duration,    &m->distance,   &m->mean_abs_speed_error, &m->final_abs_speed_error,
+          &m->l_step_mean, &m->l_step_min, &m->l_step_max,           &m->l_step_spread,
+          &m->saturation,  &m->energy,     &m->cost_of_transport};
+}
+
+void PackBrief(const RunBrief& brief, Packer* out) {
+  out->U64(brief.job);
+  out->Str(brief.run);
+  out->Str(brief.summary_row);
+  out->U64(static_cast<std::uint64_t>(brief.outcome));
+  out->U64(brief.passed ? 1 : 0);
+  out->U64(brief.failures.size());
+  for (const std::string& f : brief.failures) out->Str(f);
+  RunMetrics metrics = brief.metrics;
+  for (double* v : MetricFields(&metrics)) out->F64(*v);
+  out->U64(static_cast<std::uint64_t>(static_cast<std::int64_t>(metrics.steps)));
+  out->F64(brief.simulated);
+}
+
+RunBrief UnpackBrief(Unpacker* in) {
+  RunBrief brief;
+  brief.job = static_cast<size_t>(in->U64());
+  brief.run = in->Str();
+  brief.summary_row = in->Str();
+  brief.outcome = static_cast<Outcome>(in->U64());
+  brief.passed = in->U64() != 0;
+  const std::uint64_t failures = in->U64();
+  for (std::uint64_t k = 0; k < failures; ++k) brief.failures.push_back(in->Str());
+  for (double* v : MetricFields(&brief.metrics)) *v = in->F64();
+  brief.metrics.steps = static_cast<int>(static_cast<std::int64_t>(in->U64()));
+  brief.simulated = in->F64();
+  return brief;
+}
+
+RunBrief Brief(size_t job, const std::string& suite, const RunOutput& run) {
+  RunBrief brief;
+  brief.job = job;
+  brief.run = run.run;
+  brief.summary_row = SummaryRow(suite, run);
+  brief.outcome = run.sim.outcome;
+  brief.passed = run.passed;
+  brief.failures = run.failures;
+  brief.metrics = run.metrics;
+  brief.simulated = run.sim.t_end;
+  return brief;
+}
+
+// A non-root rank's private folder for its runs' files, removed with it.
+struct ScratchFolder {
+  fs::path path;
+  void Create() {
+    std::string pattern =
+        (fs::temp_directory_path() / ("rabbit-rank" + std::to_string(Ranks::rank()) + "-XXXXXX"))
+            .string();
+    if (::mkdtemp(pattern.data()) == nullptr) {
+      throw std::runtime_error(pattern +
+                               ": cannot create a temporary folder: " + std::strerror(errno));
+    }
+    path = pattern;
+  }
+  ~ScratchFolder() {
+    std::error_code ignored;
+    if (!path.empty()) fs::remove_all(path, ignored);
+  }
+};
+
+// The files of a non-root rank's scratch folder, handed out in pieces. A message is a status
+// (0: an error message follows; 1: pieces follow), whether more pieces remain after these, their
+// count, then per piece the file's relative path, the offset and the bytes.
+class Outbox {
+ public:
+  explicit Outbox(fs::path base) : base_(std::move(base)) {}
+
+  // Never throws: a failure travels to rank 0 in the message.
+  std::string Next(size_t budget) {
+    Packer records;
+    std::uint64_t count = 0;
+    try {
+      if (!listed_) List();
+      while (next_ < files_.size() && records.size() < budget) {
+        const fs::path full = base_ / files_[next_];
+        const std::uint64_t size = fs::file_size(full);
+        const std::uint64_t take = std::min<std::uint64_t>(size - offset_, budget - records.size());
+        std::string bytes(static_cast<size_t>(take), '\0');
+        std::ifstream in(full, std::ios::binary);
+        in.seekg(static_cast<std::streamoff>(offset_));
+        in.read(bytes.data(), static_cast<std::streamsize>(take));
+        if (!in) throw std::runtime_error(full.string() + ": cannot read back");
+        records.Str(files_[next_].generic_string());
+        records.U64(offset_);
+        records.Str(bytes);
+        ++count;
+        offset_ += take;
+        if (offset_ >= size) {
+          ++next_;
+          offset_ = 0;
+        }
+      }
+    } catch (const std::exception& e) {
+      Packer failure;
+      failure.U64(0);
+      failure.Str(e.what());
+      return failure.text();
+    }
+    Packer message;
+    message.U64(1);
+    message.U64(next_ < files_.size() ? 1 : 0);
+    message.U64(count);
+    return message.text() + records.text();
+  }
+
+ private:
+  void List() {
+    for (const fs::directory_entry& entry : fs::recursive_directory_iterator(base_)) {
+      if (entry.is_regular_file()) files_.push_back(entry.path().lexically_relative(base_));
+    }
+    std::sort(files_.begin(), files_.end());
+    listed_ = true;
+  }
+
+  fs::path base_;
+  std::vector<fs::path> files_;
+  bool listed_ = false;
+  size_t next_ = 0;
+  std::uint64_t offset_ = 0;
+};
+
+// Rank 0: appends a received piece to its file below dir (pieces of a file arrive in order).
+void WritePiece(const fs::path& dir, const std::string& name, std::uint64_t offset,
+                const std::string& bytes) {
+  const fs::path relative(name);
+  bool safe = !relative.empty() && relative.is_relative();
+  for (const fs::path& part : relative) safe = safe && part != ".." && part != ".";
+  if (!safe) throw std::runtime_error("MPI: a rank sent a file outside the report: " + name);
+  const fs::path path = dir / relative;
+  if (offset == 0) {
+    fs::create_directories(path.parent_path());
+  } else if (!fs::exists(path) || fs::file_size(path) != offset) {
+    throw std::runtime_error(path.string() + ": pieces from the ranks out of order");
+  }
+  std::ofstream out(path, std::ios::binary | (offset == 0 ? std::ios::trunc : std::ios::app));
+  out.write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
+  out.close();
+  if (!out) throw std::runtime_error(path.string() + ": cannot write");
+}
+
+// Rank 0: writes one round's pieces; returns "more", "done", or the error that stops everyone.
+std::string WriteRound(const std::vector<std::string>& messages, const fs::path& dir) {
+  bool more = false;
+  for (size_t r = 1; r < messages.size(); ++r) {
+    try {
+      Unpacker in(messages[r]);
+      if (in.U64() == 0) return "rank " + std::to_string(r) + ": " + in.Str();
+      if (in.U64() != 0) more = true;  // read whatever `more` was already
+      const std::uint64_t count = in.U64();
+      for (std::uint64_t k = 0; k < count; ++k) {
+        const std::string name = in.Str();
+        const std::uint64_t offset = in.U64();
+        WritePiece(dir, name, offset, in.Str());
+      }
+    } catch (const std::exception& e) {
+      return std::string("rank 0: ") + e.what();
+    }
+  }
+  return more ? "more" : "done";
+}
+
+}  // namespace
+
+RankBatchResult RunBatchOverRanks(const std::vector<BatchJob>& jobs, const std::string& suite,
+                                  int threads, GaitLibraryCache* libraries, const std::string& dir,
+                                  const std::function<void(const RunBrief&)>& on_local_done) {
+  const int rank = Ranks::rank(), size = Ranks::size();
+  std::vector<BatchJob> mine;
+  std::vector<size_t> job_of;  // mine[i] is jobs[job_of[i]]
+  for (size_t k = static_cast<size_t>(rank); k < jobs.size(); k += static_cast<size_t>(size)) {
+    mine.push_back(jobs[k]);
+    job_of.push_back(k);
+  }
+  RankBatchResult result;
+  result.threads = BatchThreads(mine, threads);
+  std::vector<RunBrief> briefs;
+  ScratchFolder scratch;
+  RunAgreed([&] {
+    std::string out = dir;
+    if (rank == 0) {
+      fs::create_directories(dir);
+    } else {
+      scratch.Create();
+      out = scratch.path.string();
+    }
+    RunBatch(mine, result.threads, libraries, [&](size_t i, RunOutput&& run) {
+      WriteRunFiles(*mine[i].scenario, run, out);
+      briefs.push_back(Brief(job_of[i], suite, run));
+      if (on_local_done) on_local_done(briefs.back());
+    });
+  });
+
+  // The briefs are small: one message each. Then the other ranks' folders, in rounds.
+  Packer mine_packed;
+  mine_packed.U64(briefs.size());
+  for (const RunBrief& b : briefs) PackBrief(b, &mine_packed);
+  const std::vector<std::string> gathered = Ranks::Gather(mine_packed.text());
+  RunAgreed([&] {
+    if (rank != 0) return;
+    result.runs.resize(jobs.size());
+    std::vector<bool> seen(jobs.size(), false);
+    for (const std::string& message : gathered) {
+      Unpacker in(message);
+      const std::uint64_t count = in.U64();
+      for (std::uint64_t k = 0; k < count; ++k) {
+        RunBrief b = UnpackBrief(&in);
+        if (b.job >= jobs.size() || seen[b.job]) throw std::runtime_error("MPI: a stray run");
+        seen[b.job] = true;
+        result.runs[b.job] = std::move(b);
+      }
+    }
+    if (std::find(seen.begin(), seen.end(), false) != seen.end()) {
+      throw std::runtime_error("MPI: a run's results did not arrive");
+    }
+  });
+  if (size == 1) return result;
+  const size_t budget =
+      std::max<size_t>(size_t{1} << 16, kRoundBytes / static_cast<size_t>(size - 1));
+  Outbox outbox(scratch.path);
+  while (true) {
+    const std::vector<std::string> round = Ranks::Gather(rank == 0 ? "" : outbox.Next(budget));
+    const std::string status = Ranks::Broadcast(rank == 0 ? WriteRound(round, dir) : "");
+    if (status == "done") break;
+    if (status != "more") throw std::runtime_error(status);
+  }
+  return result;
+}
+
+}  // namespace rabbit

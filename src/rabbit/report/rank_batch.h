@@ -1,0 +1,49 @@
+// A batch run dealt over the ranks of a distributed job (rabbit/scenario/ranks.h), with every run's
+// files gathered into rank 0's report folder. Job k of the list runs on rank k mod size, on
+// threads within the rank. Rank 0 writes its own runs' folders as they finish; the other ranks
+// write theirs into a private temporary folder (so that their memory does not grow with the
+// suite), send them to rank 0 in pieces of bounded size once every rank has finished, and remove
+// it. Only rank 0 writes into the report. In one process this is RunBatch writing the folders.
+#ifndef RABBIT_REPORT_RANK_BATCH_H_
+#define RABBIT_REPORT_RANK_BATCH_H_
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "rabbit/scenario/batch.h"
+#include "rabbit/scenario/run.h"
+
+namespace rabbit {
+
+// What rank 0 needs of a run once its files are written: the summary row, and what the console
+// table and the exit code use.
+struct RunBrief {
+  size_t job = 0;           // index into the jobs given
+  std::string run;          // its name, which is its folder's
+  std::string summary_row;  // SummaryRow(suite, run)
+  Outcome outcome = Outcome::kCompleted;
+  bool passed = true;
+  std::vector<std::string> failures;
+  RunMetrics metrics;
+  double simulated = 0.0;  // s (the run's t_end)
+};
+
+struct RankBatchResult {
+  std::vector<RunBrief> runs;  // rank 0: every job's, in job order; other ranks: none
+  int threads = 1;             // the threads this rank ran on
+};
+
+// A collective: every rank passes the same jobs. Rank 0 creates `dir` and ends with every run's
+// folder in it. `threads` is per rank (0: all cores). on_local_done is called for each of this
+// rank's own runs as it finishes (from its worker thread, serialised; may be empty), e.g. for
+// progress. When a run, a write or the transfer failed on any rank, throws on every rank
+// (RunAgreed): the caller's collectives stay in step.
+RankBatchResult RunBatchOverRanks(const std::vector<BatchJob>& jobs, const std::string& suite,
+                                  int threads, GaitLibraryCache* libraries, const std::string& dir,
+                                  const std::function<void(const RunBrief&)>& on_local_done);
+
+}  // namespace rabbit
+
+#endif  // RABBIT_REPORT_RANK_BATCH_H_
