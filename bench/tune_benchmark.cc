@@ -1,7 +1,6 @@
 // Tuning throughput (issue 6): evaluations per second of a tuning job on 1 and 2 threads, against
-// its peer, the same runs as a plain batch (RunBatch over the suites loaded once): the tuner's own
-// cost per evaluation (loading the suites under the candidate's overlay, the rounds, the log) is
-// the difference. The job: 2 searches of CRS2 over the velocity gains, 12 s of each ramp of
+// its peer, the job's own runs as one plain batch (RunBatch): the tuner's own cost (loading the
+// suites under each candidate's overlay, the rounds' barriers, the log) is the difference. The job: 2 searches of CRS2 over the velocity gains, 12 s of each ramp of
 // scenarios/tune_ramp.toml per run, 8 evaluations (16 runs). Run with
 // --benchmark_enable_random_interleaving=true so the cases alternate (this machine's speed drifts).
 // MPI ranks: bench/tune_ranks.sh.
@@ -60,22 +59,39 @@ void Tune(benchmark::State& state) {
 }
 BENCHMARK(Tune)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
 
-// The peer: the same 16 runs (8 candidates' worth of both ramps at the initial gains) as a batch.
+// The peer: the job's own 16 runs (its 8 candidates, both ramps each) as one plain batch, with no
+// rounds: what the runs cost when nothing waits for a round to finish.
 void PlainBatch(benchmark::State& state) {
-  static const Suite suite = LoadSuite(Job().suites[0], &Job().base);
+  static const std::vector<Suite> suites = [] {
+    TuneOptions options;
+    options.out = (Dir() / "peer").string();
+    options.force = true;
+    options.html = false;
+    std::vector<Suite> out;
+    for (const Evaluation& e : RunTune(Job(), options).evaluations) {
+      const ParamOverlay overlay = Job().Overlay(e.x);
+      out.push_back(LoadSuite(Job().suites[0], &overlay));
+    }
+    return out;
+  }();
   std::vector<BatchJob> jobs;
-  for (int c = 0; c < 8; ++c) {
+  for (const Suite& suite : suites) {
     for (const Scenario& s : suite.scenarios) jobs.push_back({&s, "fuzzy_cmac"});
   }
   GaitLibraryCache libraries;
-  size_t runs = 0;
   for (auto _ : state) {
-    RunBatch(jobs, static_cast<int>(state.range(0)), &libraries,
-             [&runs](size_t, RunOutput&&) { ++runs; });
+    RunBatch(jobs, static_cast<int>(state.range(0)), &libraries, [](size_t, RunOutput&&) {});
   }
-  state.SetItemsProcessed(static_cast<int64_t>(runs / 2));  // per 2 runs: one evaluation's worth
+  state.SetItemsProcessed(static_cast<int64_t>(state.iterations() * suites.size()));
 }
 BENCHMARK(PlainBatch)->Arg(1)->Arg(2)->Unit(benchmark::kMillisecond)->UseRealTime();
+
+// The tuner's serial part per candidate: the suite read under the candidate's overlay.
+void LoadCandidateSuite(benchmark::State& state) {
+  const ParamOverlay overlay = Job().Overlay({0.25, 0.12});
+  for (auto _ : state) benchmark::DoNotOptimize(LoadSuite(Job().suites[0], &overlay));
+}
+BENCHMARK(LoadCandidateSuite)->Unit(benchmark::kMillisecond);
 
 }  // namespace
 }  // namespace rabbit
