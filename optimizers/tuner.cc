@@ -820,16 +820,23 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   }
   // Without --shard, --resume also replays every shard's log.
   std::string shard_logs;
-  if (Ranks::root() && options.resume && !options.shard.active() && fs::exists(out / "shards")) {
+  RunAgreed([&] {  // rank 0 reads; a bad shard must not leave the other ranks waiting
+    if (!Ranks::root() || !options.resume || options.shard.active() ||
+        !fs::exists(out / "shards")) {
+      return;
+    }
+    std::vector<fs::path> logs;
     for (const fs::directory_entry& entry : fs::directory_iterator(out / "shards")) {
       const fs::path e = entry.path() / "evaluations.csv";
       if (!fs::exists(e)) continue;
       if (ReadText(entry.path() / kMarker).find(job.fingerprint) == std::string::npos) {
         throw InputError(e.string(), 0, "", "a shard of another job (fingerprint differs)");
       }
-      shard_logs += e.string() + "\n";
+      logs.push_back(e);
     }
-  }
+    std::sort(logs.begin(), logs.end());
+    for (const fs::path& e : logs) shard_logs += e.string() + "\n";
+  });
   std::istringstream shard_list(Ranks::Broadcast(shard_logs));
   for (std::string e; std::getline(shard_list, e);) {
     const fs::path p(e);
@@ -841,14 +848,15 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
       if (recorded.count(key) == 0) foreign.emplace(key, std::move(value));
     }
   }
-  if (Ranks::root()) {
+  Log log;
+  RunAgreed([&] {  // rank 0 writes (a full disk must not leave the other ranks waiting)
+    if (!Ranks::root()) return;
     fs::create_directories(dir);
     WriteFileAtomically((dir / kMarker).string(), [&](std::ostream& o) {
       o << "rabbit-tune/1 " << job.name << " " << job.fingerprint << "\n";
     });
-  }
-  Log log;
-  log.Open(dir, job, evaluations_text, runs_text);
+    log.Open(dir, job, evaluations_text, runs_text);
+  });
   if (const char* kill = std::getenv("RABBIT_TUNE_KILL_AFTER")) log.KillAfter(std::atoi(kill));
   int next_index = 0;
   for (const auto& [key, e] : recorded) next_index = std::max(next_index, e.index + 1);
@@ -946,12 +954,15 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
         e->index = next_index++;
         e->wall = wall;
       }
-      // Log in request order (searches in order, then their candidates).
-      for (size_t f = 0; f < fresh.size(); ++f) {
-        const Evaluation* e = found[fresh_at[f].first][fresh_at[f].second];
-        log.Append(*e);
-        if (Ranks::root() && options.on_evaluation) options.on_evaluation(*e);
-      }
+      // Log in request order (searches in order, then their candidates); rank 0 writes, and a
+      // failure there (a full disk) stops every rank.
+      RunAgreed([&] {
+        for (size_t f = 0; f < fresh.size(); ++f) {
+          const Evaluation* e = found[fresh_at[f].first][fresh_at[f].second];
+          log.Append(*e);
+          if (Ranks::root() && options.on_evaluation) options.on_evaluation(*e);
+        }
+      });
     }
     for (size_t r = 0; r < ss.size(); ++r) {
       for (const Evaluation* e : found[r]) answers[r].push_back(*e);
