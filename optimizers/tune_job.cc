@@ -215,6 +215,17 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
     if (q.name.empty() || q.name.find_first_of(",\"\n\r") != std::string::npos) {
       p.Fail("name", "a column name: no commas, quotes or line breaks");
     }
+    // evaluations.csv's own columns: a parameter of the same name would make it unreadable.
+    bool taken = false;
+    for (const char* column : {"eval", "round", "start", "seq", "objective", "runs", "failed",
+                               "error", "wall_s"}) {
+      taken = taken || q.name == column;
+    }
+    for (int t = 0; t < kNumTuneTerms; ++t) taken = taken || q.name == TuneTermName(t);
+    if (taken) {
+      p.Fail(p.Has("name") ? "name" : "path",
+             "\"" + q.name + "\" is a column of evaluations.csv already: give another `name`");
+    }
     q.lower = p.RequiredDouble("lower");
     q.upper = p.RequiredDouble("upper");
     if (!(q.lower < q.upper)) p.Fail("lower", "bounds need lower < upper");

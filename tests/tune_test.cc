@@ -134,6 +134,12 @@ TEST_F(TuneTest, BadJobsAreInputErrors) {
                  14, "parameter[1].initial", "within [lower, upper]");
   ExpectJobError("budget = 5\n", one, 6, "job.budget", "unknown key");
   ExpectJobError("algorithm = \"sbplx\"\n", one + one, -1, "parameter[2].path", "tuned twice");
+  // A name taken by evaluations.csv's own columns would make the log unreadable (no resume, no
+  // report).
+  ExpectJobError(sbplx,
+                 "[[parameter]]\npath = \"controller.k_p\"\nname = \"objective\"\nlower = 0\n"
+                 "upper = 1\n",
+                 12, "parameter[1].name", "a column of evaluations.csv");
 }
 
 TEST_F(TuneTest, MoreBadJobs) {
