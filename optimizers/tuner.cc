@@ -805,8 +805,9 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   evaluations_text = Ranks::Broadcast(evaluations_text);
   runs_text = Ranks::Broadcast(runs_text);
   recorded = ParseLog(job, (dir / "evaluations.csv").string(), evaluations_text, runs_text);
-  if (!recorded.empty()) {
-    // What survived, rewritten whole: complete rows, and no runs of an evaluation cut short.
+  {
+    // What survived, rewritten whole: complete rows, and no runs of an evaluation cut short (also
+    // when no row survived: the first evaluation's runs may be logged without its row).
     std::vector<const Evaluation*> order;
     for (const auto& [key, e] : recorded) order.push_back(&e);
     std::sort(order.begin(), order.end(),
@@ -820,7 +821,11 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   }
   // Without --shard, --resume also replays every shard's log.
   std::string shard_logs;
-  if (Ranks::root() && options.resume && !options.shard.active() && fs::exists(out / "shards")) {
+  RunAgreed([&] {  // rank 0 alone reads the folder: a throw there must not leave the others waiting
+    if (!(Ranks::root() && options.resume && !options.shard.active() &&
+          fs::exists(out / "shards"))) {
+      return;
+    }
     for (const fs::directory_entry& entry : fs::directory_iterator(out / "shards")) {
       const fs::path e = entry.path() / "evaluations.csv";
       if (!fs::exists(e)) continue;
@@ -829,7 +834,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
       }
       shard_logs += e.string() + "\n";
     }
-  }
+  });
   std::istringstream shard_list(Ranks::Broadcast(shard_logs));
   for (std::string e; std::getline(shard_list, e);) {
     const fs::path p(e);
@@ -841,14 +846,16 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
       if (recorded.count(key) == 0) foreign.emplace(key, std::move(value));
     }
   }
-  if (Ranks::root()) {
-    fs::create_directories(dir);
-    WriteFileAtomically((dir / kMarker).string(), [&](std::ostream& o) {
-      o << "rabbit-tune/1 " << job.name << " " << job.fingerprint << "\n";
-    });
-  }
   Log log;
-  log.Open(dir, job, evaluations_text, runs_text);
+  RunAgreed([&] {  // only rank 0 writes
+    if (Ranks::root()) {
+      fs::create_directories(dir);
+      WriteFileAtomically((dir / kMarker).string(), [&](std::ostream& o) {
+        o << "rabbit-tune/1 " << job.name << " " << job.fingerprint << "\n";
+      });
+    }
+    log.Open(dir, job, evaluations_text, runs_text);
+  });
   if (const char* kill = std::getenv("RABBIT_TUNE_KILL_AFTER")) log.KillAfter(std::atoi(kill));
   int next_index = 0;
   for (const auto& [key, e] : recorded) next_index = std::max(next_index, e.index + 1);
@@ -877,6 +884,8 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
     std::vector<std::vector<double>> fresh;                  // to evaluate now
     std::vector<std::pair<size_t, size_t>> fresh_at;         // (request, candidate)
     std::vector<std::vector<const Evaluation*>> found(ss.size());
+    // New in this folder's log this round, in request order: fresh ones and other shards' replays.
+    std::vector<std::pair<Evaluation*, bool>> to_log;  // (evaluation, fresh)
     bool evaluated = false;
     for (size_t r = 0; r < ss.size(); ++r) {
       const int s = ss[r];
@@ -906,10 +915,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
           }
           auto e = std::make_unique<Evaluation>(*replay);
           e->round = round;
-          if (logged == recorded.end()) {  // from a shard: logged here now
-            e->index = next_index++;
-            log.Append(*e);
-          }
+          if (logged == recorded.end()) to_log.push_back({e.get(), false});  // from a shard
           ++result.replayed;
           memo[s].push_back(e.get());
           found[r].back() = e.get();
@@ -926,6 +932,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
         e->x = x;
         found[r].back() = e.get();
         memo[s].push_back(e.get());
+        to_log.push_back({e.get(), true});
         all.push_back(std::move(e));
       }
       by_start.at(s)->Charge(charged);
@@ -943,16 +950,18 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
         e->start = s;
         e->seq = k;
         e->round = round;
-        e->index = next_index++;
         e->wall = wall;
       }
-      // Log in request order (searches in order, then their candidates).
-      for (size_t f = 0; f < fresh.size(); ++f) {
-        const Evaluation* e = found[fresh_at[f].first][fresh_at[f].second];
-        log.Append(*e);
-        if (Ranks::root() && options.on_evaluation) options.on_evaluation(*e);
-      }
     }
+    // Numbered and logged in request order (searches in order, then their candidates), as one
+    // uninterrupted run does, whether or not some came from other shards' logs.
+    for (const auto& [e, is_fresh] : to_log) e->index = next_index++;
+    RunAgreed([&] {  // only rank 0 writes: a failed write must stop every rank
+      for (const auto& [e, is_fresh] : to_log) {
+        log.Append(*e);
+        if (is_fresh && Ranks::root() && options.on_evaluation) options.on_evaluation(*e);
+      }
+    });
     for (size_t r = 0; r < ss.size(); ++r) {
       for (const Evaluation* e : found[r]) answers[r].push_back(*e);
     }
