@@ -165,6 +165,30 @@ TEST_F(TuneTest, MoreBadJobs) {
       Write("missing.toml", "[job]\nsuites = [\"nowhere.toml\"]\nalgorithm = \"sbplx\"\n"
                             "[objective]\nenergy = 1\n" + one);
   EXPECT_THROW(LoadTuneJob(missing), InputError);
+  // An empty suite path, and a suite listed twice (its runs would be mixed in the logs).
+  const std::string empty =
+      Write("empty.toml", "[job]\nsuites = [\"\"]\nalgorithm = \"sbplx\"\n"
+                          "[objective]\nenergy = 1\n" + one);
+  try {
+    LoadTuneJob(empty);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), empty);
+    EXPECT_EQ(e.key(), "job.suites");
+    EXPECT_EQ(e.line(), 2);
+  }
+  const std::string twice = Write(
+      "twice.toml", "[job]\nsuites = [\"" + kRoot + "/scenarios/tune_ramp.toml\", \"" + kRoot +
+                        "/scenarios/../scenarios/tune_ramp.toml\"]\nalgorithm = \"sbplx\"\n"
+                        "[objective]\nenergy = 1\n" + one);
+  try {
+    LoadTuneJob(twice);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "job.suites");
+    EXPECT_NE(std::string(e.what()).find("two suites named \"tune_ramp\""), std::string::npos)
+        << e.what();
+  }
   // A filter matching no scenario.
   const std::string nothing = Write(
       "nothing.toml", "[job]\nsuites = [\"" + kRoot + "/scenarios/tune_ramp.toml\"]\n"
