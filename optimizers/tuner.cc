@@ -770,7 +770,8 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   std::map<std::pair<int, int>, Evaluation> recorded;  // replayable, from this folder's log
   std::map<std::pair<int, int>, Evaluation> foreign;   // from other shards' logs (to re-log)
   std::string problem;
-  if (Ranks::root()) {
+  RunAgreed([&] {  // rank 0 alone looks at the folder: a throw there must stop every rank
+    if (!Ranks::root()) return;
     const bool has_log = fs::exists(dir / "evaluations.csv");
     if (fs::exists(out) && !fs::is_directory(out)) {
       problem = out.string() + " exists and is not a folder";
@@ -799,7 +800,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
       evaluations_text = CompleteLines(ReadText(dir / "evaluations.csv"));
       runs_text = CompleteLines(ReadText(dir / "runs.csv"));
     }
-  }
+  });
   problem = Ranks::Broadcast(problem);
   if (!problem.empty()) throw InputError("--out", 0, out.string(), problem);
   evaluations_text = Ranks::Broadcast(evaluations_text);
