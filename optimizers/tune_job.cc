@@ -113,7 +113,10 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
     head.Fail("name", "use letters, digits, '.', '_' and '-' only (it names the output folder)");
   }
   job.description = head.String("description", "");
-  for (const std::string& s : head.Strings("suites", {})) job.suites.push_back(resolve(s));
+  for (const std::string& s : head.Strings("suites", {})) {
+    if (s.empty()) head.Fail("suites", "an empty path: name a suite file");
+    job.suites.push_back(resolve(s));
+  }
   if (job.suites.empty()) head.Fail("suites", "name at least one suite file");
   job.filter = head.String("filter", "");
   try {
@@ -215,6 +218,17 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
     if (q.name.empty() || q.name.find_first_of(",\"\n\r") != std::string::npos) {
       p.Fail("name", "a column name: no commas, quotes or line breaks");
     }
+    // evaluations.csv's own columns: a parameter of the same name would make it unreadable.
+    bool taken = false;
+    for (const char* column : {"eval", "round", "start", "seq", "objective", "runs", "failed",
+                               "error", "wall_s"}) {
+      taken = taken || q.name == column;
+    }
+    for (int t = 0; t < kNumTuneTerms; ++t) taken = taken || q.name == TuneTermName(t);
+    if (taken) {
+      p.Fail(p.Has("name") ? "name" : "path",
+             "\"" + q.name + "\" is a column of evaluations.csv already: give another `name`");
+    }
     q.lower = p.RequiredDouble("lower");
     q.upper = p.RequiredDouble("upper");
     if (!(q.lower < q.upper)) p.Fail("lower", "bounds need lower < upper");
@@ -244,10 +258,18 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   std::uint64_t h = Fnv1a(std::string("rabbit-tune/1 ") + RABBIT_VERSION, 0xCBF29CE484222325ULL);
   h = Fnv1a(FileText(path), h);
   for (const ParamValue& v : job.base.values) h = Fnv1a(v.path + "=" + ExactNumber(v.value) + ";", h);
+  std::map<std::string, std::string> suite_names;  // name -> file
   for (const std::string& suite_path : job.suites) {
     h = Fnv1a(FileText(suite_path), h);
     std::vector<std::map<std::string, double>> settings;
     const Suite suite = LoadSuite(suite_path, &job.base, &settings);
+    // The logs and comparison.csv name a run by suite and scenario: a suite twice would mix them.
+    const auto [named, fresh] = suite_names.emplace(suite.name, suite_path);
+    if (!fresh) {
+      throw InputError(path, 0, "job.suites",
+                       "two suites named \"" + suite.name + "\" (" + named->second + " and " +
+                           suite_path + "): list each suite once");
+    }
     const std::regex filter(job.filter, std::regex::ECMAScript);
     bool any = false;
     for (size_t i = 0; i < suite.scenarios.size(); ++i) {

@@ -770,7 +770,8 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   std::map<std::pair<int, int>, Evaluation> recorded;  // replayable, from this folder's log
   std::map<std::pair<int, int>, Evaluation> foreign;   // from other shards' logs (to re-log)
   std::string problem;
-  if (Ranks::root()) {
+  RunAgreed([&] {  // rank 0 alone looks at the folder: a throw there must stop every rank
+    if (!Ranks::root()) return;
     const bool has_log = fs::exists(dir / "evaluations.csv");
     if (fs::exists(out) && !fs::is_directory(out)) {
       problem = out.string() + " exists and is not a folder";
@@ -799,14 +800,15 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
       evaluations_text = CompleteLines(ReadText(dir / "evaluations.csv"));
       runs_text = CompleteLines(ReadText(dir / "runs.csv"));
     }
-  }
+  });
   problem = Ranks::Broadcast(problem);
   if (!problem.empty()) throw InputError("--out", 0, out.string(), problem);
   evaluations_text = Ranks::Broadcast(evaluations_text);
   runs_text = Ranks::Broadcast(runs_text);
   recorded = ParseLog(job, (dir / "evaluations.csv").string(), evaluations_text, runs_text);
-  if (!recorded.empty()) {
-    // What survived, rewritten whole: complete rows, and no runs of an evaluation cut short.
+  {
+    // What survived, rewritten whole: complete rows, and no runs of an evaluation cut short (also
+    // when no row survived: the first evaluation's runs may be logged without its row).
     std::vector<const Evaluation*> order;
     for (const auto& [key, e] : recorded) order.push_back(&e);
     std::sort(order.begin(), order.end(),
@@ -849,12 +851,13 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
     }
   }
   Log log;
-  RunAgreed([&] {  // rank 0 writes (a full disk must not leave the other ranks waiting)
-    if (!Ranks::root()) return;
-    fs::create_directories(dir);
-    WriteFileAtomically((dir / kMarker).string(), [&](std::ostream& o) {
-      o << "rabbit-tune/1 " << job.name << " " << job.fingerprint << "\n";
-    });
+  RunAgreed([&] {  // only rank 0 writes
+    if (Ranks::root()) {
+      fs::create_directories(dir);
+      WriteFileAtomically((dir / kMarker).string(), [&](std::ostream& o) {
+        o << "rabbit-tune/1 " << job.name << " " << job.fingerprint << "\n";
+      });
+    }
     log.Open(dir, job, evaluations_text, runs_text);
   });
   if (const char* kill = std::getenv("RABBIT_TUNE_KILL_AFTER")) log.KillAfter(std::atoi(kill));
@@ -885,6 +888,8 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
     std::vector<std::vector<double>> fresh;                  // to evaluate now
     std::vector<std::pair<size_t, size_t>> fresh_at;         // (request, candidate)
     std::vector<std::vector<const Evaluation*>> found(ss.size());
+    // New in this folder's log this round, in request order: fresh ones and other shards' replays.
+    std::vector<std::pair<Evaluation*, bool>> to_log;  // (evaluation, fresh)
     bool evaluated = false;
     for (size_t r = 0; r < ss.size(); ++r) {
       const int s = ss[r];
@@ -914,10 +919,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
           }
           auto e = std::make_unique<Evaluation>(*replay);
           e->round = round;
-          if (logged == recorded.end()) {  // from a shard: logged here now
-            e->index = next_index++;
-            log.Append(*e);
-          }
+          if (logged == recorded.end()) to_log.push_back({e.get(), false});  // from a shard
           ++result.replayed;
           memo[s].push_back(e.get());
           found[r].back() = e.get();
@@ -934,6 +936,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
         e->x = x;
         found[r].back() = e.get();
         memo[s].push_back(e.get());
+        to_log.push_back({e.get(), true});
         all.push_back(std::move(e));
       }
       by_start.at(s)->Charge(charged);
@@ -951,19 +954,18 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
         e->start = s;
         e->seq = k;
         e->round = round;
-        e->index = next_index++;
         e->wall = wall;
       }
-      // Log in request order (searches in order, then their candidates); rank 0 writes, and a
-      // failure there (a full disk) stops every rank.
-      RunAgreed([&] {
-        for (size_t f = 0; f < fresh.size(); ++f) {
-          const Evaluation* e = found[fresh_at[f].first][fresh_at[f].second];
-          log.Append(*e);
-          if (Ranks::root() && options.on_evaluation) options.on_evaluation(*e);
-        }
-      });
     }
+    // Numbered and logged in request order (searches in order, then their candidates), as one
+    // uninterrupted run does, whether or not some came from other shards' logs.
+    for (const auto& [e, is_fresh] : to_log) e->index = next_index++;
+    RunAgreed([&] {  // only rank 0 writes: a failed write must stop every rank
+      for (const auto& [e, is_fresh] : to_log) {
+        log.Append(*e);
+        if (is_fresh && Ranks::root() && options.on_evaluation) options.on_evaluation(*e);
+      }
+    });
     for (size_t r = 0; r < ss.size(); ++r) {
       for (const Evaluation* e : found[r]) answers[r].push_back(*e);
     }

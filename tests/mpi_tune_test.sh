@@ -41,4 +41,13 @@ diff <(strip "$work/one/evaluations.csv") <(strip "$work/two/evaluations.csv")
 diff "$work/one/runs.csv" "$work/two/runs.csv"
 diff "$work/one/best.toml" "$work/two/best.toml"
 test "$(wc -l < "$work/one/evaluations.csv")" -eq 9
+# A shard of another job (fingerprint differs) in the folder: every rank exits 2, none hangs.
+"$rabbit" tune "$work/job.toml" --out "$work/sharded" --shard 1/2 --jobs 2 --quiet --no-html
+sed 's/^seed = 7$/seed = 8/' "$work/job.toml" > "$work/other.toml"
+status=0
+timeout 120 "$mpirun" --allow-run-as-root --oversubscribe -np 2 \
+  "$rabbit" tune "$work/other.toml" --out "$work/sharded" --resume --jobs 1 --quiet --no-html \
+  2> "$work/err" || status=$?
+test "$status" -eq 2 || { echo "a shard of another job: exit $status (124: hung)"; exit 1; }
+grep -q "a shard of another job" "$work/err"
 echo "mpi_tune_test: 2 ranks = 1 process ($(($(wc -l < "$work/one/evaluations.csv") - 1)) evaluations)"

@@ -134,6 +134,12 @@ TEST_F(TuneTest, BadJobsAreInputErrors) {
                  14, "parameter[1].initial", "within [lower, upper]");
   ExpectJobError("budget = 5\n", one, 6, "job.budget", "unknown key");
   ExpectJobError("algorithm = \"sbplx\"\n", one + one, -1, "parameter[2].path", "tuned twice");
+  // A name taken by evaluations.csv's own columns would make the log unreadable (no resume, no
+  // report).
+  ExpectJobError(sbplx,
+                 "[[parameter]]\npath = \"controller.k_p\"\nname = \"objective\"\nlower = 0\n"
+                 "upper = 1\n",
+                 12, "parameter[1].name", "a column of evaluations.csv");
 }
 
 TEST_F(TuneTest, MoreBadJobs) {
@@ -159,6 +165,30 @@ TEST_F(TuneTest, MoreBadJobs) {
       Write("missing.toml", "[job]\nsuites = [\"nowhere.toml\"]\nalgorithm = \"sbplx\"\n"
                             "[objective]\nenergy = 1\n" + one);
   EXPECT_THROW(LoadTuneJob(missing), InputError);
+  // An empty suite path, and a suite listed twice (its runs would be mixed in the logs).
+  const std::string empty =
+      Write("empty.toml", "[job]\nsuites = [\"\"]\nalgorithm = \"sbplx\"\n"
+                          "[objective]\nenergy = 1\n" + one);
+  try {
+    LoadTuneJob(empty);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), empty);
+    EXPECT_EQ(e.key(), "job.suites");
+    EXPECT_EQ(e.line(), 2);
+  }
+  const std::string twice = Write(
+      "twice.toml", "[job]\nsuites = [\"" + kRoot + "/scenarios/tune_ramp.toml\", \"" + kRoot +
+                        "/scenarios/../scenarios/tune_ramp.toml\"]\nalgorithm = \"sbplx\"\n"
+                        "[objective]\nenergy = 1\n" + one);
+  try {
+    LoadTuneJob(twice);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "job.suites");
+    EXPECT_NE(std::string(e.what()).find("two suites named \"tune_ramp\""), std::string::npos)
+        << e.what();
+  }
   // A filter matching no scenario.
   const std::string nothing = Write(
       "nothing.toml", "[job]\nsuites = [\"" + kRoot + "/scenarios/tune_ramp.toml\"]\n"
@@ -266,6 +296,50 @@ TEST_F(TuneTest, KilledJobResumesToTheSameResult) {
   const std::string changed = Job("seed = 2\n");
   EXPECT_EQ(RunCli("tune " + changed + " --no-html --resume --out " + cut, &output), 2);
   EXPECT_NE(output.find("fingerprint"), std::string::npos) << output;
+}
+
+TEST_F(TuneTest, ResumeDropsTheRunsOfAFirstEvaluationWithoutItsRow) {
+  // Killed after the first evaluation's runs reached runs.csv, before its row: the resumed log
+  // must not hold those runs twice (a later resume would refuse it).
+  const std::string job = Job();
+  const std::string whole = (dir_ / "whole").string(), cut = (dir_ / "cut").string();
+  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + whole), 0);
+  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + cut), 0);
+  for (const char* name : {"best.toml", "comparison.csv", "parameters.csv", "meta.csv"}) {
+    fs::remove(fs::path(cut) / name);
+  }
+  std::istringstream evaluations(ReadText(fs::path(cut) / "evaluations.csv"));
+  std::string header;
+  std::getline(evaluations, header);
+  std::ofstream(fs::path(cut) / "evaluations.csv") << header << "\n";
+  std::istringstream runs(ReadText(fs::path(cut) / "runs.csv"));
+  std::string runs_header, first_run;
+  std::getline(runs, runs_header);
+  std::getline(runs, first_run);  // evaluation 0's one run (ramp_up)
+  ASSERT_EQ(first_run.rfind("0,", 0), 0u) << first_run;
+  std::ofstream(fs::path(cut) / "runs.csv") << runs_header << "\n" << first_run << "\n";
+  std::string output;
+  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + cut, &output), 0) << output;
+  EXPECT_EQ(ReadText(fs::path(cut) / "runs.csv"), ReadText(fs::path(whole) / "runs.csv"));
+  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + cut, &output), 0) << output;
+  EXPECT_NE(output.find("replayed   6 evaluations"), std::string::npos) << output;
+  EXPECT_EQ(ReadText(fs::path(cut) / "best.toml"), ReadText(fs::path(whole) / "best.toml"));
+}
+
+TEST_F(TuneTest, ResumeWithSomeShardsMissingLogsInTheOrderOfOneRun) {
+  // Only shard 2/2 has run: --resume runs search 0 and replays search 1, numbering and logging
+  // both in request order, as one run does.
+  const std::string job = Job("starts = 2\n");
+  const std::string whole = (dir_ / "whole").string(), sharded = (dir_ / "sharded").string();
+  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + whole), 0);
+  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --shard 2/2 --out " + sharded), 0);
+  std::string output;
+  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + sharded, &output), 0) << output;
+  EXPECT_NE(output.find("replayed   3 evaluations"), std::string::npos) << output;
+  EXPECT_EQ(WithoutLastColumn(ReadText(fs::path(sharded) / "evaluations.csv")),
+            WithoutLastColumn(ReadText(fs::path(whole) / "evaluations.csv")));
+  EXPECT_EQ(ReadText(fs::path(sharded) / "runs.csv"), ReadText(fs::path(whole) / "runs.csv"));
+  EXPECT_EQ(ReadText(fs::path(sharded) / "best.toml"), ReadText(fs::path(whole) / "best.toml"));
 }
 
 TEST_F(TuneTest, ShardsMergeToTheSameResult) {
