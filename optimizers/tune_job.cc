@@ -47,7 +47,9 @@ std::string Near(const std::map<std::string, double>& settings, const std::strin
   std::string out;
   int shown = 0;
   for (const auto& [key, value] : settings) {
-    if (key.rfind(head, 0) != 0 || key.find(".sets.") != std::string::npos) continue;
+    if (key.rfind(head, 0) != 0 || key.find(".sets.") != std::string::npos || key[0] == '#') {
+      continue;
+    }
     if (shown++ == 12) {
       out += ", ...";
       break;
@@ -232,6 +234,7 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
     q.lower = p.RequiredDouble("lower");
     q.upper = p.RequiredDouble("upper");
     if (!(q.lower < q.upper)) p.Fail("lower", "bounds need lower < upper");
+    if (!std::isfinite(q.upper - q.lower)) p.Fail("upper", "the range upper - lower overflows");
     q.initial = p.Double("initial", std::numeric_limits<double>::quiet_NaN());
     given_initial.push_back(p.Has("initial"));
     if (p.Has("initial") && !(q.initial >= q.lower && q.initial <= q.upper)) {
@@ -286,6 +289,11 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
                              "names no numeric setting of scenario \"" + s.name + "\" in " +
                                  suite_path +
                                  (near.empty() ? "" : " (its settings there: " + near + ")"));
+          }
+          if (settings[i].count("#integer:" + one) != 0) {
+            throw InputError(path, q.line, one,
+                             "is an integer setting of scenario \"" + s.name +
+                                 "\": only real-valued settings can be tuned");
           }
           if (std::isnan(q.initial)) {
             q.initial = found->second;

@@ -152,6 +152,15 @@ TEST_F(ParamsTest, IntegerSettingsTakeOnlyIntegers) {
   EXPECT_THROW(LoadSuite(suite, &bad), InputError);
 }
 
+TEST_F(ParamsTest, PatchedValuesAreCheckedAsWrittenOnes) {
+  // q0_d_initial_deg outside [q0_d_min_deg, q0_d_max_deg] is an error when written, so when patched.
+  const ParamOverlay bad = Overlay("[params]\n\"controller.q0_d_initial_deg\" = 40\n");
+  EXPECT_THROW(LoadSuite(kRoot + "/scenarios/paper.toml", &bad), InputError);
+  const ParamOverlay ok = Overlay("[params]\n\"controller.q0_d_initial_deg\" = 10\n");
+  EXPECT_NEAR(LoadSuite(kRoot + "/scenarios/paper.toml", &ok).scenarios[0].walker.q0_d_initial,
+              10.0 * M_PI / 180.0, 1e-15);
+}
+
 TEST_F(ParamsTest, AnInvalidMembershipFunctionIsAnInputError) {
   // Small's peak beyond its right foot.
   const ParamOverlay bad = Overlay("[params]\n\"controller.sets.d_obs.Small.2\" = 0.4\n");

@@ -133,6 +133,10 @@ TEST_F(TuneTest, BadJobsAreInputErrors) {
                  "[[parameter]]\npath = \"controller.k_p\"\nlower = 0\nupper = 1\ninitial = 2\n",
                  14, "parameter[1].initial", "within [lower, upper]");
   ExpectJobError("budget = 5\n", one, 6, "job.budget", "unknown key");
+  ExpectJobError(sbplx, "[[parameter]]\npath = \"controller.warmup_steps\"\nlower = 2\nupper = 8\n",
+                 10, "controller.warmup_steps", "integer setting");
+  ExpectJobError(sbplx, "[[parameter]]\npath = \"controller.k_p\"\nlower = -1e308\nupper = 1e308\n",
+                 13, "parameter[1].upper", "overflows");
   ExpectJobError("algorithm = \"sbplx\"\n", one + one, -1, "parameter[2].path", "tuned twice");
   // A name taken by evaluations.csv's own columns would make the log unreadable (no resume, no
   // report).

@@ -105,7 +105,10 @@ void TomlReader::Fail(const std::string& key, const std::string& message) const 
   throw InputError(file_, LineOf(node), key.empty() ? prefix_ : PathOf(key), message);
 }
 
-bool TomlReader::Has(const std::string& key) const { return Find(key) != nullptr; }
+bool TomlReader::Has(const std::string& key) const {
+  // A patched key counts as given: the checks that apply to a written value apply to it.
+  return Find(key) != nullptr || (patches_ != nullptr && patches_->count(rel_ + key) != 0);
+}
 
 bool TomlReader::IsArray(const std::string& key) const {
   const toml::node* node = Find(key);
@@ -167,9 +170,11 @@ long TomlReader::Integer(const std::string& key, long default_value, long min, l
                     std::to_string(max) + "]");
     }
     Observe(key, *patch);
+    ObserveInteger(key);
     return static_cast<long>(*patch);
   }
   const toml::node* node = Node(key);
+  ObserveInteger(key);
   if (node == nullptr) {
     Observe(key, static_cast<double>(default_value));
     return default_value;

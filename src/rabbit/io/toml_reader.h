@@ -37,6 +37,7 @@ class TomlReader {
 
   // Records into *settings the value every numeric read returns (patched or default included),
   // by its path below this reader, array elements 1-based: the scenario's effective settings.
+  // Integer settings also get an entry "#integer:<path>".
   TomlReader WithObserver(std::shared_ptr<std::map<std::string, double>> settings) const;
 
   // This reader's layers (for building readers over them and more layers).
@@ -97,6 +98,10 @@ class TomlReader {
 
   void Observe(const std::string& key, double value) const {
     if (observed_ != nullptr) (*observed_)[rel_ + key] = value;
+  }
+  // Integer settings are also recorded as "#integer:<path>" (paths never start with '#').
+  void ObserveInteger(const std::string& key) const {
+    if (observed_ != nullptr) (*observed_)["#integer:" + rel_ + key] = 1.0;
   }
 
   // The node of `key` in the first layer that has it (null: none).

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstddef>
 #include <fstream>
+#include <mutex>
 #include <ostream>
 #include <sstream>
 #include <stdexcept>
@@ -128,14 +129,23 @@ int FailingLine(const std::vector<std::string>& lines) {
 }
 
 // Silences fuzzylite's logging to stdout (FL_LOG) while alive.
+// Holds a process-wide lock while fuzzylite's logging is off: the switch is global, so two imports
+// at once (on two threads) would restore each other's setting.
 class QuietFuzzylite {
  public:
-  QuietFuzzylite() : was_logging_(fl::fuzzylite::isLogging()) { fl::fuzzylite::setLogging(false); }
+  QuietFuzzylite() : lock_(Mutex()), was_logging_(fl::fuzzylite::isLogging()) {
+    fl::fuzzylite::setLogging(false);
+  }
   ~QuietFuzzylite() { fl::fuzzylite::setLogging(was_logging_); }
   QuietFuzzylite(const QuietFuzzylite&) = delete;
   QuietFuzzylite& operator=(const QuietFuzzylite&) = delete;
 
  private:
+  static std::mutex& Mutex() {
+    static std::mutex mutex;
+    return mutex;
+  }
+  std::lock_guard<std::mutex> lock_;
   bool was_logging_;
 };
 

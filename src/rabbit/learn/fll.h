@@ -14,7 +14,7 @@
 // cannot be placed) and the FLL key, with fuzzylite's message where it has one.
 //
 // fuzzylite's import logs to stdout by default; ParseFll silences it while importing (fuzzylite's
-// logging switch is global, so do not import on two threads at once).
+// logging switch is global: imports take a process-wide lock, so they may come from any thread).
 #ifndef RABBIT_LEARN_FLL_H_
 #define RABBIT_LEARN_FLL_H_
 

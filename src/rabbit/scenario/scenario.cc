@@ -356,8 +356,7 @@ PassCriteria ReadCriteria(TomlReader t) {
   return c;
 }
 
-// The FLL file's fuzzy system, parsed once per file (fuzzylite's importer is not thread-safe:
-// imports are serialised by the cache's lock).
+// The FLL file's fuzzy system, parsed once per file (and again when the file changes).
 std::shared_ptr<const TsFis> CachedFll(const std::string& path) {
   static std::mutex mutex;
   static std::map<std::string, std::pair<std::filesystem::file_time_type,
