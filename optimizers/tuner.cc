@@ -374,11 +374,13 @@ class Rounds {
       {
         std::unique_lock<std::mutex> lock(mutex_);
         changed_.wait(lock, [&] {
+          if (aborted_) return true;
           for (const auto& [s, st] : state_) {
             if (!st.finished && !st.waiting) return false;
           }
           return true;
         });
+        if (aborted_) return;  // a search failed: its error is rethrown by the caller
         for (auto& [s, st] : state_) {
           if (st.waiting) {
             starts.push_back(s);
