@@ -1,6 +1,7 @@
 #include "tuner.h"
 
 #include <ceres/ceres.h>
+#include <glog/logging.h>
 #include <nlopt.h>
 #include <unistd.h>
 
@@ -593,7 +594,19 @@ class Search {
     const Search* search_;
   };
 
+  // Ceres logs through glog, which prints "Logging before InitGoogleLogging()" and an ERROR line
+  // when a step's evaluation fails (an invalid candidate: a result here, not an error). Once per
+  // process: glog initialised and kept to FATAL messages only.
+  static void QuietGlog() {
+    static std::once_flag once;
+    std::call_once(once, [] {
+      if (!google::IsGoogleLoggingInitialized()) google::InitGoogleLogging("rabbit");
+      FLAGS_minloglevel = google::GLOG_FATAL;
+    });
+  }
+
   void RunCeres() {
+    QuietGlog();
     const std::vector<Evaluation> first = Ask({x0_});  // a memo hit: the residual count
     const int residuals = static_cast<int>(Residuals(job_.objective, first[0]).size());
     if (!first[0].error.empty() || residuals == 0) return;

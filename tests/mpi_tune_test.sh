@@ -34,7 +34,8 @@ upper = 0.4
 TOML
 "$rabbit" tune "$work/job.toml" --out "$work/one" --jobs 2 --quiet --no-html
 # As root (CI), OpenMPI needs --allow-run-as-root; --oversubscribe lets 2 ranks share fewer cores.
-"$mpirun" --allow-run-as-root --oversubscribe -np 2 \
+"$mpirun" --allow-run-as-root --oversubscribe --mca btl self,vader \
+  --mca btl_vader_single_copy_mechanism none -np 2 \
   "$rabbit" tune "$work/job.toml" --out "$work/two" --jobs 1 --quiet --no-html
 strip() { sed 's/,[^,]*$//' "$1"; }  # the last column (wall_s) is not deterministic
 diff <(strip "$work/one/evaluations.csv") <(strip "$work/two/evaluations.csv")
@@ -45,7 +46,8 @@ test "$(wc -l < "$work/one/evaluations.csv")" -eq 9
 "$rabbit" tune "$work/job.toml" --out "$work/sharded" --shard 1/2 --jobs 2 --quiet --no-html
 sed 's/^seed = 7$/seed = 8/' "$work/job.toml" > "$work/other.toml"
 status=0
-timeout 120 "$mpirun" --allow-run-as-root --oversubscribe -np 2 \
+timeout 120 "$mpirun" --allow-run-as-root --oversubscribe --mca btl self,vader \
+  --mca btl_vader_single_copy_mechanism none -np 2 \
   "$rabbit" tune "$work/other.toml" --out "$work/sharded" --resume --jobs 1 --quiet --no-html \
   2> "$work/err" || status=$?
 test "$status" -eq 2 || { echo "a shard of another job: exit $status (124: hung)"; exit 1; }
