@@ -120,6 +120,9 @@ TEST_F(ScenarioFileTest, UnknownKeyNamesKeyAndLine) {
   ExpectError("[simulation]\nduration = 1\nrtoll = 1e-6\n[initial]\ny = 1\n", 3, "simulation.rtoll",
               "unknown key");
   ExpectError(std::string("speed = 3\n") + kMinimal, 1, "speed", "unknown key");
+  // A model file that does not exist: the scenario's file, line and key, not just the path.
+  ExpectError(std::string("[model]\nfile = \"nowhere.toml\"\n") + kMinimal, 2, "model.file",
+              "no model file");
 }
 
 TEST_F(ScenarioFileTest, WrongTypesAndValues) {

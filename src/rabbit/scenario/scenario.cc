@@ -554,6 +554,9 @@ ModelParams ReadModelParams(TomlReader* t) {
   const std::string base = t->String("file", "");
   if (!base.empty()) {
     const std::filesystem::path path = std::filesystem::path(t->Directory()) / base;
+    if (!std::filesystem::is_regular_file(path)) {
+      t->Fail("file", "no model file " + path.string());
+    }
     p = LoadModelFile(path.string());
   }
   ReadModelFields(t, &p);
