@@ -943,7 +943,6 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
         }
         fresh.push_back(x);
         fresh_at.push_back({r, c});
-        found[r].back() = nullptr;
         // Reserve its place in the search's request order.
         auto e = std::make_unique<Evaluation>();
         e->start = s;
