@@ -1,5 +1,5 @@
-// rabbit run [SUITE...] [--out DIR] [--jobs N] [--filter REGEX] [--shard I/N]: the main job. Runs
-// every scenario of the suites (and their baselines) in parallel, writes summary.csv, each run's
+// rabbit run [SUITE...] [--out DIR] [--jobs N] [--filter REGEX] [--shard I/N] [--resume]: the main
+// job. Runs every scenario of the suites (and their baselines) in parallel, writes summary.csv, each run's
 // CSV files and index.html. Nothing is written before every suite has loaded; each report is built
 // in a staging folder renamed into place at the end, so a failed run never leaves half a report.
 // The staging folder has a stable name (DIR.partial) and every run's folder in it a completion
