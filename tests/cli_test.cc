@@ -3,9 +3,11 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <csignal>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
@@ -15,11 +17,14 @@ namespace fs = std::filesystem;
 
 struct CliRun {
   int code = -1;
-  std::string output;  // stdout and stderr
+  bool killed = false;  // by SIGKILL (directly, or as the shell reports it: 128 + 9)
+  std::string output;   // stdout and stderr
 };
 
-CliRun RunCli(const std::string& args) {
-  const std::string command = std::string(RABBIT_CLI_PATH) + " " + args + " 2>&1";
+// `env` is prefixed to the command, e.g. "RABBIT_RUN_KILL_AFTER=5".
+CliRun RunCli(const std::string& args, const std::string& env = "") {
+  const std::string command =
+      (env.empty() ? "" : env + " ") + std::string(RABBIT_CLI_PATH) + " " + args + " 2>&1";
   CliRun run;
   FILE* pipe = popen(command.c_str(), "r");
   if (pipe == nullptr) return run;
@@ -28,6 +33,7 @@ CliRun RunCli(const std::string& args) {
   while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) run.output.append(buffer, n);
   const int status = pclose(pipe);
   run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  run.killed = (WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) || run.code == 128 + SIGKILL;
   return run;
 }
 
@@ -284,7 +290,8 @@ TEST_F(CliTest, RunExitsOneWhenARequiredScenarioFailsItsCriteria) {
       Write("fail.toml", SmallSuite("[scenario.criteria]\nmin_steps = 40\n"));
   const CliRun r = RunCli("run " + failing + " --no-html --out " + out.string());
   EXPECT_EQ(r.code, 1) << r.output;
-  EXPECT_NE(r.output.find("steps after the warm-up (at least 40 required)"), std::string::npos) << r.output;
+  EXPECT_NE(r.output.find("steps after the warm-up (at least 40 required)"), std::string::npos)
+      << r.output;
   EXPECT_TRUE(fs::exists(out / "summary.csv"));  // the report is still written
   const std::string optional =
       Write("optional.toml", SmallSuite("required = false\n[scenario.criteria]\nmin_steps = 40\n"));
@@ -459,4 +466,129 @@ TEST_F(CliTest, ReportRefusesAnIncompleteOrMixedSetOfShards) {
   const CliRun complete = RunCli("report -q " + out.string());
   EXPECT_EQ(complete.code, 0) << complete.output;
   EXPECT_TRUE(fs::exists(out / "walk+nearest_gait" / "steps.csv"));
+}
+
+namespace {
+
+// SmallSuite with three more scenarios: six runs (walk, walk+nearest_gait, second, third, fourth,
+// fifth).
+std::string SixRunSuite() {
+  return SmallSuite("") +
+         "[[scenario]]\nname = \"third\"\n[scenario.velocity]\nvalue = 0.5\n"
+         "[[scenario]]\nname = \"fourth\"\n[scenario.velocity]\nvalue = 0.55\n"
+         "[[scenario]]\nname = \"fifth\"\n[scenario.velocity]\nvalue = 0.65\n";
+}
+
+const char* const kSixRuns[] = {"walk", "walk+nearest_gait", "second", "third", "fourth", "fifth"};
+
+// The run folders of a staging folder that hold their completion marker, with its text.
+std::map<std::string, std::string> FinishedRuns(const fs::path& staging) {
+  std::map<std::string, std::string> finished;
+  for (const auto& entry : fs::directory_iterator(staging)) {
+    if (fs::exists(entry.path() / ".rabbit-run")) {
+      finished[entry.path().filename().string()] = ReadFile(entry.path() / ".rabbit-run");
+    }
+  }
+  return finished;
+}
+
+}  // namespace
+
+TEST_F(CliTest, RunKilledMidwayResumesToTheReportOfAnUninterruptedRun) {
+  const std::string suite = Write("six.toml", SixRunSuite());
+  const fs::path one = dir_ / "one", out = dir_ / "out", staging = dir_ / "out.partial";
+  const CliRun whole = RunCli("run " + suite + " --jobs 2 --no-html -q --out " + one.string());
+  ASSERT_EQ(whole.code, 0) << whole.output;
+
+  const CliRun killed = RunCli("run " + suite + " --jobs 2 --no-html --out " + out.string(),
+                               "RABBIT_RUN_KILL_AFTER=5");
+  ASSERT_TRUE(killed.killed) << killed.code << killed.output;
+  EXPECT_FALSE(fs::exists(out));
+  std::map<std::string, std::string> before = FinishedRuns(staging);
+  ASSERT_EQ(before.size(), 5u);
+  // A run cut short while writing (its files partial, no marker) is run again, not reused.
+  const std::string cut = before.begin()->first;
+  fs::remove(staging / cut / ".rabbit-run");
+  std::ofstream(staging / cut / "steps.csv") << "step,leg\n1,";
+  before.erase(cut);
+
+  const CliRun resumed =
+      RunCli("run " + suite + " --jobs 2 --no-html --out " + out.string() + " --resume");
+  ASSERT_EQ(resumed.code, whole.code) << resumed.output;
+  EXPECT_NE(resumed.output.find("4 of 6 runs already finished"), std::string::npos)
+      << resumed.output;
+  EXPECT_NE(resumed.output.find("running 2 (1 cut short)"), std::string::npos) << resumed.output;
+  EXPECT_NE(resumed.output.find("6 runs (4 resumed)"), std::string::npos) << resumed.output;
+  EXPECT_FALSE(fs::exists(staging));
+  const std::string summary = ReadFile(out / "summary.csv");
+  EXPECT_EQ(WithoutWallTime(summary), WithoutWallTime(ReadFile(one / "summary.csv")));
+  for (const char* run : kSixRuns) {
+    for (const char* file :
+         {"steps.csv", "trajectory.csv", "meta.csv", "tracking.csv", "terrain.csv"}) {
+      EXPECT_EQ(ReadFile(one / run / file), ReadFile(out / run / file)) << run << "/" << file;
+    }
+    EXPECT_FALSE(fs::exists(out / run / ".rabbit-run")) << run;  // the markers are gone
+  }
+  // The finished runs were not run again: their rows, wall time included, are the marker's.
+  for (const auto& [run, marker] : before) {
+    const std::string row = marker.substr(marker.find('\n') + 1);
+    EXPECT_NE(summary.find(row), std::string::npos) << run;
+  }
+  // A plain run replaces the resumed report as usual.
+  EXPECT_EQ(RunCli("run " + suite + " --no-html -q --out " + out.string()).code, 0);
+}
+
+TEST_F(CliTest, RunResumeRefusesAnotherPlanAndRunsEverythingWhenNothingIsLeft) {
+  const std::string suite = Write("six.toml", SixRunSuite());
+  const fs::path out = dir_ / "out", staging = dir_ / "out.partial";
+  // Nothing to resume: every run runs, and the output says so.
+  const CliRun fresh = RunCli("run " + suite + " --no-html --out " + out.string() + " --resume");
+  ASSERT_EQ(fresh.code, 0) << fresh.output;
+  EXPECT_NE(fresh.output.find("nothing to resume"), std::string::npos) << fresh.output;
+  EXPECT_TRUE(fs::exists(out / "fifth" / "steps.csv"));
+
+  const CliRun killed = RunCli("run " + suite + " --jobs 1 --no-html -q --out " + out.string(),
+                               "RABBIT_RUN_KILL_AFTER=2");
+  ASSERT_TRUE(killed.killed) << killed.code << killed.output;
+  const std::map<std::string, std::string> before = FinishedRuns(staging);
+  ASSERT_EQ(before.size(), 2u);
+  // Another plan (another --filter) does not resume it: exit 2, nothing changed.
+  const CliRun other =
+      RunCli("run " + suite + " --filter ^walk$ --no-html --out " + out.string() + " --resume");
+  EXPECT_EQ(other.code, 2) << other.output;
+  EXPECT_NE(other.output.find("another plan"), std::string::npos) << other.output;
+  EXPECT_EQ(FinishedRuns(staging), before);
+  EXPECT_TRUE(fs::exists(out / "fifth" / "steps.csv"));  // the earlier report is still there
+  // Without --resume the unfinished run is discarded (with a note) and all runs again.
+  const CliRun plain = RunCli("run " + suite + " --filter ^walk$ --no-html --out " + out.string());
+  EXPECT_EQ(plain.code, 0) << plain.output;
+  EXPECT_NE(plain.output.find("discarded the unfinished run"), std::string::npos) << plain.output;
+  EXPECT_FALSE(fs::exists(staging));
+  EXPECT_FALSE(fs::exists(out / "fifth"));
+  EXPECT_TRUE(fs::exists(out / "walk+nearest_gait" / "steps.csv"));
+}
+
+TEST_F(CliTest, RunOverItsWallTimeLimitEndsAsTimeoutAndTheBatchGoesOn) {
+  const fs::path out = dir_ / "report";
+  // The clock is read after 100 control periods: far beyond a microsecond.
+  const std::string suite = Write(
+      "timeout.toml", SmallSuite("required = false\n[scenario.simulation]\nmax_wall_s = 1e-6\n"));
+  const CliRun r = RunCli("run " + suite + " --no-html --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.output;
+  const std::string summary = ReadFile(out / "summary.csv");
+  EXPECT_NE(summary.find("small,second,fuzzy_cmac,second,fuzzy_cmac,timeout,wall time "),
+            std::string::npos)
+      << summary;
+  EXPECT_NE(summary.find("small,walk,fuzzy_cmac,walk,fuzzy_cmac,completed,"), std::string::npos);
+  EXPECT_NE(summary.find("walk+nearest_gait,nearest_gait,completed,"), std::string::npos);
+  EXPECT_NE(ReadFile(out / "second" / "meta.csv").find("outcome,timeout\nreason,wall time"),
+            std::string::npos);
+  EXPECT_NE(r.output.find("outcome timeout (expected completed)"), std::string::npos) << r.output;
+  for (const char* bad : {"0", "-1", "\"soon\""}) {
+    const std::string file = Write(
+        "bad.toml", SmallSuite(std::string("[scenario.simulation]\nmax_wall_s = ") + bad + "\n"));
+    const CliRun refused = RunCli("run " + file + " --no-html --out " + (dir_ / "bad").string());
+    EXPECT_EQ(refused.code, 2) << bad << refused.output;
+    EXPECT_NE(refused.output.find("max_wall_s"), std::string::npos) << refused.output;
+  }
 }

@@ -1,7 +1,8 @@
 #!/bin/sh
 # rabbit run under mpirun against one process: the same summary.csv but for the wall-time columns
 # (wall_s, real_time_factor: the last two, never quoted), the same run files; a sharded run with
-# one shard under mpirun merges to the same; bad input exits 2 on every rank and writes nothing.
+# one shard under mpirun merges to the same; a run killed midway resumes under mpirun to the same;
+# bad input exits 2 on every rank and writes nothing.
 # Usage: mpi_run_test.sh MPIEXEC RABBIT SUITE WORKDIR
 set -eu
 mpiexec=$1
@@ -42,6 +43,21 @@ mpirun_2 "$rabbit" run "$suite" --filter "$filter" --jobs 1 -q --shard 1/2 --out
 without_wall "$work/sharded/summary.csv" >"$work/sharded.csv"
 cmp "$work/one.csv" "$work/sharded.csv" || fail "merged shards differ from one process"
 diff -r -x summary.csv -x index.html "$work/one" "$work/sharded" || fail "merged run files differ"
+
+# Killed midway (rank 0 kills itself after 2 of its runs; mpirun ends the job), then resumed
+# under mpirun: rank 0's finished runs are kept, every rank skips them, the report is the same.
+code=0
+TMPDIR="$work/tmp" RABBIT_RUN_KILL_AFTER=2 mpirun_2 -x RABBIT_RUN_KILL_AFTER "$rabbit" run "$suite" \
+  --filter "$filter" --jobs 1 --no-html -q --out "$work/resumed" >/dev/null 2>&1 || code=$?
+[ "$code" -ne 0 ] || fail "RABBIT_RUN_KILL_AFTER=2 did not kill the run"
+[ -d "$work/resumed.partial" ] || fail "the killed run left no staging folder"
+TMPDIR="$work/tmp" mpirun_2 "$rabbit" run "$suite" --filter "$filter" --jobs 1 --no-html \
+  --out "$work/resumed" --resume >"$work/resume.log"
+grep -q "2 of 6 runs already finished" "$work/resume.log" || fail "the resume ran finished runs"
+without_wall "$work/resumed/summary.csv" >"$work/resumed.csv"
+cmp "$work/one.csv" "$work/resumed.csv" || fail "the resumed summary.csv differs"
+diff -r -x summary.csv "$work/one" "$work/resumed" || fail "the resumed run files differ"
+[ ! -e "$work/resumed.partial" ] || fail "the resume left its staging folder"
 
 # Bad input: every rank exits 2, nothing is written.
 code=0

@@ -9,10 +9,14 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
 
+#include "rabbit/io/atomic_file.h"
+#include "rabbit/io/csv_table.h"
+#include "rabbit/io/error.h"
 #include "rabbit/report/run_files.h"
 #include "rabbit/scenario/ranks.h"
 
@@ -125,6 +129,28 @@ RunBrief Brief(size_t job, const std::string& suite, const RunOutput& run) {
   return brief;
 }
 
+std::string ReadFileText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  if (!in) throw InputError(path, 0, "", "cannot read");
+  return text.str();
+}
+
+// Written after the run's other files: its presence means they are all there.
+void WriteRunMarker(const std::string& dir, const RunBrief& brief) {
+  WriteFileAtomically((fs::path(dir) / brief.run / kRunMarker).string(), [&](std::ostream& out) {
+    out << SummaryHeader() << "\n" << brief.summary_row << "\n";
+  });
+}
+
+// Marker files after every other file (see Outbox).
+bool TransferOrder(const fs::path& a, const fs::path& b) {
+  const bool a_marker = a.filename() == kRunMarker, b_marker = b.filename() == kRunMarker;
+  if (a_marker != b_marker) return b_marker;
+  return a < b;
+}
+
 // A non-root rank's private folder for its runs' files, removed with it.
 struct ScratchFolder {
   fs::path path;
@@ -194,7 +220,8 @@ class Outbox {
     for (const fs::directory_entry& entry : fs::recursive_directory_iterator(base_)) {
       if (entry.is_regular_file()) files_.push_back(entry.path().lexically_relative(base_));
     }
-    std::sort(files_.begin(), files_.end());
+    // The run markers go last: a transfer cut short leaves no marker beside a partial folder.
+    std::sort(files_.begin(), files_.end(), TransferOrder);
     listed_ = true;
   }
 
@@ -247,6 +274,59 @@ std::string WriteRound(const std::vector<std::string>& messages, const fs::path&
 
 }  // namespace
 
+RunBrief ReadRunMarker(const std::string& path) {
+  const CsvTable table = CsvTable::Read(path);
+  if (table.num_rows() != 1) throw InputError(path, 0, "", "expected one summary row");
+  std::string header;
+  for (const std::string& h : table.header()) header += (header.empty() ? "" : ",") + h;
+  if (header != SummaryHeader()) {
+    throw InputError(path, 1, "", "not this version's summary columns");
+  }
+  const auto text = [&](const char* column) { return table.Text(0, table.Column(column)); };
+  const auto number = [&](const char* column) {
+    return table.Number(0, table.Column(column), CsvNumber::kFiniteOrNan);
+  };
+  RunBrief brief;
+  brief.run = text("run");
+  const std::string outcome = text("outcome");
+  bool known = false;
+  for (Outcome o : {Outcome::kCompleted, Outcome::kFell, Outcome::kTripped, Outcome::kDiverged,
+                    Outcome::kTimedOut}) {
+    if (outcome == OutcomeName(o)) {
+      brief.outcome = o;
+      known = true;
+    }
+  }
+  if (!known) throw InputError(path, 2, "outcome", "unknown outcome \"" + outcome + "\"");
+  brief.passed = table.Integer(0, table.Column("passed")) != 0;
+  // The row is the one this program wrote: its text, not a re-rendering, goes into summary.csv.
+  std::istringstream lines(ReadFileText(path));
+  std::string line;
+  std::getline(lines, line);
+  std::getline(lines, brief.summary_row);
+  const std::string failed = text("failed_criteria");
+  for (size_t start = 0; !failed.empty() && start <= failed.size();) {
+    const size_t end = std::min(failed.find(';', start), failed.size());
+    brief.failures.push_back(failed.substr(start, end - start));
+    start = end + 1;
+  }
+  RunMetrics& m = brief.metrics;
+  m.duration = number("duration_s");
+  m.distance = number("distance_m");
+  m.steps = table.Integer(0, table.Column("steps"));
+  m.mean_abs_speed_error = number("mean_abs_speed_error_m_s");
+  m.final_abs_speed_error = number("final_abs_speed_error_m_s");
+  m.l_step_mean = number("l_step_mean_m");
+  m.l_step_min = number("l_step_min_m");
+  m.l_step_max = number("l_step_max_m");
+  m.l_step_spread = number("l_step_spread_m");
+  m.saturation = number("saturation_s");
+  m.energy = number("energy_j");
+  m.cost_of_transport = number("cost_of_transport");
+  brief.simulated = m.duration;
+  return brief;
+}
+
 RankBatchResult RunBatchOverRanks(const std::vector<BatchJob>& jobs, const std::string& suite,
                                   int threads, GaitLibraryCache* libraries, const std::string& dir,
                                   const std::function<void(const RunBrief&)>& on_local_done) {
@@ -272,6 +352,7 @@ RankBatchResult RunBatchOverRanks(const std::vector<BatchJob>& jobs, const std::
     RunBatch(mine, result.threads, libraries, [&](size_t i, RunOutput&& run) {
       WriteRunFiles(*mine[i].scenario, run, out);
       briefs.push_back(Brief(job_of[i], suite, run));
+      WriteRunMarker(out, briefs.back());
       if (on_local_done) on_local_done(briefs.back());
     });
   });

@@ -4,6 +4,9 @@
 // write theirs into a private temporary folder (so that their memory does not grow with the
 // suite), send them to rank 0 in pieces of bounded size once every rank has finished, and remove
 // it. Only rank 0 writes into the report. In one process this is RunBatch writing the folders.
+// Each run's folder gets its completion marker (kRunMarker) last, also on the way to rank 0, so a
+// folder without one is a run cut short (rabbit run --resume runs it again; it removes the
+// markers once the report is complete).
 #ifndef RABBIT_REPORT_RANK_BATCH_H_
 #define RABBIT_REPORT_RANK_BATCH_H_
 
@@ -29,6 +32,14 @@ struct RunBrief {
   RunMetrics metrics;
   double simulated = 0.0;  // s (the run's t_end)
 };
+
+// The last file of every run's folder: a CSV of the summary header and the run's row, from which
+// its brief is rebuilt without running it again (rabbit run --resume).
+constexpr const char* kRunMarker = ".rabbit-run";
+
+// The brief of a finished run from its folder's marker (job left 0). Throws InputError naming the
+// file when it is missing or malformed.
+RunBrief ReadRunMarker(const std::string& path);
 
 struct RankBatchResult {
   std::vector<RunBrief> runs;  // rank 0: every job's, in job order; other ranks: none

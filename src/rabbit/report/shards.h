@@ -7,7 +7,8 @@
 //                  failed_required (its required main-variant runs that failed their criteria)
 //   summary.csv    "job," and the summary header, then per run its plan index and its row
 //   <run>/         each run's folder, as in a report
-// It is built in a staging folder beside DIR (DIR.shard-I-of-N.partial-PID) and renamed into
+// It is built in a staging folder beside DIR (DIR.shard-I-of-N.partial, locked
+// while a process writes it; rabbit run --resume continues a killed one) and renamed into
 // place, so shards run at the same time, or one killed, leave the others' folders alone.
 // Merging checks that DIR/shards holds exactly the shards 1..N of one N, of one suite and plan,
 // each with a row and a folder for every job it owns, then makes DIR the report an unsharded run

@@ -156,6 +156,10 @@ void ReadSimulation(TomlReader t, Scenario* s) {
   o.contact = t.Bool("contact", o.contact);
   o.restart_at_samples = t.Bool("restart_at_samples", o.restart_at_samples);
   o.record_every = static_cast<int>(t.Integer("record_every", o.record_every, 0, 1000000));
+  if (t.Has("max_wall_s")) {
+    o.max_wall = t.Double("max_wall_s", 0.0);
+    if (!(o.max_wall > 0.0)) t.Fail("max_wall_s", "must be > 0 s");
+  }
   if (!t.Bool("gravity", true)) s->model.gravity = 0.0;
   t.Finish();
   if (o.duration / o.control_period > kMaxPeriods) {
@@ -615,8 +619,9 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name,
   s.expected_outcome = root.String("expect_outcome", "");
   if (!s.expected_outcome.empty() && s.expected_outcome != "completed" &&
       s.expected_outcome != "fell" && s.expected_outcome != "tripped" &&
-      s.expected_outcome != "diverged") {
-    root.Fail("expect_outcome", "expected \"completed\", \"fell\", \"tripped\" or \"diverged\"");
+      s.expected_outcome != "diverged" && s.expected_outcome != "timeout") {
+    root.Fail("expect_outcome",
+              "expected \"completed\", \"fell\", \"tripped\", \"diverged\" or \"timeout\"");
   }
   s.required = root.Bool("required", s.required);
   s.seed = static_cast<std::uint64_t>(root.Integer("seed", 1, 0, std::numeric_limits<long>::max()));

@@ -1,7 +1,9 @@
 #include "rabbit/sim/simulator.h"
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <memory>
 #include <sstream>
 #include <stdexcept>
@@ -18,6 +20,8 @@ const char* OutcomeName(Outcome outcome) {
       return "tripped";
     case Outcome::kDiverged:
       return "diverged";
+    case Outcome::kTimedOut:
+      return "timeout";
   }
   return "?";
 }
@@ -33,6 +37,10 @@ bool SimOptions::IsValid(std::string* error) const {
   }
   if (duration / control_period > 1e8) {
     *error = "more than 1e8 control periods in one run";
+    return false;
+  }
+  if (!(max_wall > 0.0)) {
+    *error = "max wall time must be > 0 s";
     return false;
   }
   if (max_events_per_period <= 0 || record_every < 0) {
@@ -240,6 +248,8 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
   const Model& model = *setup.model;
   const SimOptions& opt = setup.options;
   const Terrain& terrain = setup.terrain;
+  const auto wall_start = std::chrono::steady_clock::now();
+  const bool wall_limited = std::isfinite(opt.max_wall);
 
   RunContext ctx;
   ctx.setup = &setup;
@@ -302,6 +312,18 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       obs.foot_contact[leg] = s.foot_force[leg].fn > 0.0;
     }
     alive = alive && CheckState(setup, s, ComputePose(model, s.q, sample_data), &result);
+    if (alive && wall_limited && k > 0 && k % kWallCheckPeriods == 0) {
+      const double wall =
+          std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();
+      if (wall > opt.max_wall) {
+        char text[96];
+        std::snprintf(text, sizeof text, "wall time %.3g s over the %.3g s limit (max_wall_s)",
+                      wall, opt.max_wall);
+        result.outcome = Outcome::kTimedOut;
+        result.reason = Describe(text, s.t);
+        alive = false;
+      }
+    }
     const bool reached = alive && s.q[kX] - q0[kX] >= opt.stop_distance;
     // Energies only for the samples kept (a run that records nothing, like a synthesis
     // candidate, skips them).

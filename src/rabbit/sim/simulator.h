@@ -38,12 +38,19 @@ struct SimOptions {
   int record_every = 1;             // keep every n-th sample in the result (0 = none)
   // End the run (as completed) at the first sample where the hip has travelled this far in x (m).
   double stop_distance = std::numeric_limits<double>::infinity();
+  // End the run (as timeout) once it has taken this much wall time (s), checked every
+  // kWallCheckPeriods control periods. A safety net against a run that crawls (chattering
+  // contacts, tiny integrator steps): where it ends depends on the machine's speed and load.
+  double max_wall = std::numeric_limits<double>::infinity();
   IntegratorOptions integrator;
   FallCriteria fall;
   bool IsValid(std::string* error) const;
 };
 
-enum class Outcome { kCompleted, kFell, kTripped, kDiverged };
+// The clock is read once per this many control periods (0.1 s at 1 kHz): cheap next to them.
+constexpr long kWallCheckPeriods = 100;
+
+enum class Outcome { kCompleted, kFell, kTripped, kDiverged, kTimedOut };
 const char* OutcomeName(Outcome outcome);
 
 struct SimSample {
