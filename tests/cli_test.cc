@@ -1,6 +1,7 @@
 // The rabbit CLI end to end: exit codes (0 success, 1 failed criteria, 2 bad input or usage), the
 // error message naming file and key, and the CSV it writes. Runs the built binary.
 #include <gtest/gtest.h>
+#include <unistd.h>
 #include <sys/wait.h>
 
 #include <csignal>
@@ -41,7 +42,7 @@ class CliTest : public ::testing::Test {
  protected:
   void SetUp() override {
     dir_ = fs::temp_directory_path() /
-           ("rabbit_cli_test_" +
+           ("rabbit_cli_test_" + std::to_string(::getpid()) + "_" +
             std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
     fs::remove_all(dir_);
     fs::create_directories(dir_);
