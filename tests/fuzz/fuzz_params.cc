@@ -1,0 +1,16 @@
+// Fuzz target: parameter overlays (TOML [params] tables) through LoadParamOverlay.
+#include <cstddef>
+#include <cstdint>
+
+#include "fuzz_util.h"
+#include "rabbit/io/error.h"
+#include "rabbit/scenario/params.h"
+
+extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
+  const std::string path = rabbit_fuzz::Dir().Write("params.toml", data, size);
+  try {
+    rabbit::LoadParamOverlay(path);
+  } catch (const rabbit::InputError&) {
+  }
+  return 0;
+}
