@@ -8,7 +8,7 @@
 #include "rabbit/io/error.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = rabbit_fuzz::Dir().Write("input.csv", data, size);
+  const std::string path = rabbit_fuzz::Dir().Write("gaits-input.csv", data, size);
   try {
     rabbit::ReadGaitFile(path);
   } catch (const rabbit::InputError&) {

@@ -10,7 +10,7 @@
 #include "rabbit/learn/network_io.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = rabbit_fuzz::Dir().Write("input.csv", data, size);
+  const std::string path = rabbit_fuzz::Dir().Write("network-input.csv", data, size);
   std::map<std::string, std::string> metadata;
   try {
     const rabbit::Cmac cmac = rabbit::ReadCmacFile(path, &metadata);

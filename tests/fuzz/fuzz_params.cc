@@ -7,7 +7,7 @@
 #include "rabbit/scenario/params.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = rabbit_fuzz::Dir().Write("params.toml", data, size);
+  const std::string path = rabbit_fuzz::Dir().Write("params-input.toml", data, size);
   try {
     rabbit::LoadParamOverlay(path);
   } catch (const rabbit::InputError&) {

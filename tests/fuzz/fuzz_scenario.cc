@@ -9,7 +9,7 @@
 #include "rabbit/scenario/suite.h"
 
 extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size) {
-  const std::string path = rabbit_fuzz::Dir().Write("input.toml", data, size);
+  const std::string path = rabbit_fuzz::Dir().Write("scenarios/input.toml", data, size);
   try {
     rabbit::LoadSuite(path);
   } catch (const rabbit::InputError&) {

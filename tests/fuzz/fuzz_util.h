@@ -15,9 +15,11 @@
 
 namespace rabbit_fuzz {
 
-// A directory laid out like the source tree where it matters: <dir>/scenarios/ for the input, so
-// that the shipped scenarios' relative paths ("../gaits/reference/vm_0.60.csv", "model.toml")
-// resolve to the shipped files through symlinks, and fuzzed inputs reach the readers past them.
+// A directory laid out like the source tree where it matters, so that the shipped files' relative
+// paths resolve to the shipped files through symlinks and fuzzed inputs reach the readers past
+// them: <dir>/scenarios/ (a real directory, with a link to every shipped scenario, e.g.
+// "model.toml") beside a link <dir>/gaits ("../gaits/reference/vm_0.60.csv"), and
+// <dir>/optimizers/jobs/ for tuning jobs ("../../scenarios/tune_ramp.toml").
 class FuzzDir {
  public:
   FuzzDir() {
@@ -27,8 +29,11 @@ class FuzzDir {
     root_ = pattern;
     const fs::path source = RABBIT_SOURCE_DIR;
     fs::create_directory(root_ / "scenarios");
+    for (const fs::directory_entry& entry : fs::directory_iterator(source / "scenarios")) {
+      fs::create_symlink(entry.path(), root_ / "scenarios" / entry.path().filename());
+    }
     fs::create_directory_symlink(source / "gaits", root_ / "gaits");
-    fs::create_symlink(source / "scenarios" / "model.toml", root_ / "scenarios" / "model.toml");
+    fs::create_directories(root_ / "optimizers" / "jobs");
   }
   ~FuzzDir() {
     std::error_code ignored;
@@ -37,9 +42,9 @@ class FuzzDir {
   FuzzDir(const FuzzDir&) = delete;
   FuzzDir& operator=(const FuzzDir&) = delete;
 
-  // Writes the input to <dir>/scenarios/<name> and returns its path.
+  // Writes the input to <dir>/<name> (e.g. "scenarios/input.toml") and returns its path.
   std::string Write(const std::string& name, const std::uint8_t* data, std::size_t size) const {
-    const std::string path = (root_ / "scenarios" / name).string();
+    const std::string path = (root_ / name).string();
     std::ofstream out(path, std::ios::binary | std::ios::trunc);
     out.write(reinterpret_cast<const char*>(data), static_cast<std::streamsize>(size));
     out.close();
