@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <string>
 
+#include "fuzz_util.h"
 #include "rabbit/io/error.h"
 #include "rabbit/learn/fll.h"
 
@@ -11,7 +12,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string text(reinterpret_cast<const char*>(data), size);
   try {
     rabbit::ParseFll(text, "input.fll");
-  } catch (const rabbit::InputError&) {
+  } catch (const rabbit::InputError& e) {
+    rabbit_fuzz::Refused(e);
   }
   return 0;
 }

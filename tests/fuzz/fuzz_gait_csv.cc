@@ -11,11 +11,13 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string path = rabbit_fuzz::Dir().Write("gaits-input.csv", data, size);
   try {
     rabbit::ReadGaitFile(path);
-  } catch (const rabbit::InputError&) {
+  } catch (const rabbit::InputError& e) {
+    rabbit_fuzz::Refused(e);
   }
   try {
     rabbit::ReadGaitIndex(path);
-  } catch (const rabbit::InputError&) {
+  } catch (const rabbit::InputError& e) {
+    rabbit_fuzz::Refused(e);
   }
   return 0;
 }

@@ -19,7 +19,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     for (const double x : {o.x_min, 0.5 * (o.x_min + o.x_max), o.x_max, o.x_max + 1.0}) {
       (void)cmac.Query(x);
     }
-  } catch (const rabbit::InputError&) {
+  } catch (const rabbit::InputError& e) {
+    rabbit_fuzz::Refused(e);
   }
   return 0;
 }

@@ -17,7 +17,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   rabbit::Suite suite;
   try {
     suite = rabbit::LoadSuite(path);
-  } catch (const rabbit::InputError&) {
+  } catch (const rabbit::InputError& e) {
+    rabbit_fuzz::Refused(e);
     return 0;
   }
   for (const rabbit::Scenario& scenario : suite.scenarios) {

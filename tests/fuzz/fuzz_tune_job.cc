@@ -11,7 +11,8 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   const std::string path = rabbit_fuzz::Dir().Write("optimizers/jobs/input.toml", data, size);
   try {
     rabbit::LoadTuneJob(path);
-  } catch (const rabbit::InputError&) {
+  } catch (const rabbit::InputError& e) {
+    rabbit_fuzz::Refused(e);
   }
   return 0;
 }

@@ -7,6 +7,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
@@ -61,6 +62,13 @@ class FuzzDir {
 inline const FuzzDir& Dir() {
   static const FuzzDir dir;
   return dir;
+}
+
+// Called with every InputError: with RABBIT_FUZZ_VERBOSE set, prints it, to see why the inputs of
+// a corpus are refused (e.g. that the shipped seeds load: RABBIT_FUZZ_VERBOSE=1 <target> <files>).
+inline void Refused(const std::exception& error) {
+  static const bool verbose = std::getenv("RABBIT_FUZZ_VERBOSE") != nullptr;
+  if (verbose) std::fprintf(stderr, "InputError: %s\n", error.what());
 }
 
 }  // namespace rabbit_fuzz
