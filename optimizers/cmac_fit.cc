@@ -119,7 +119,7 @@ CmacFitSummary FitCmacCeres(const std::vector<double>& x, const std::vector<doub
   }
   if (options.ridge > 0.0) {
     for (double& weight : w) {
-      problem.AddResidualBlock(new DifferenceResidual(1, options.ridge), nullptr, {&weight});
+      problem.AddResidualBlock(new DifferenceResidual(1, options.ridge), nullptr, &weight);
     }
   }
   ceres::Solver::Options solver;

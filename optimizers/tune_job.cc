@@ -8,6 +8,7 @@
 
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
+#include "rabbit/scenario/batch.h"
 #include "rabbit/scenario/suite.h"
 
 namespace rabbit {
@@ -121,6 +122,8 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   }
   if (job.suites.empty()) head.Fail("suites", "name at least one suite file");
   job.filter = head.String("filter", "");
+  const std::string filter_problem = RegexFilterProblem(job.filter);
+  if (!filter_problem.empty()) head.Fail("filter", "bad regex: " + filter_problem);
   try {
     (void)std::regex(job.filter, std::regex::ECMAScript);
   } catch (const std::regex_error& e) {

@@ -36,7 +36,8 @@ PdHoldParams HoldAt(const Vec7& q) {
 
 class SimulatorTest : public ::testing::TestWithParam<IntegratorKind> {
  protected:
-  SimSetup Setup(const Model& model, double duration) const {
+  // Not "Setup": that would hide gtest's Setup() misspelling trap (clang: -Woverloaded-virtual).
+  SimSetup BaseSetup(const Model& model, double duration) const {
     SimSetup setup;
     setup.model = &model;
     setup.options.duration = duration;
@@ -47,7 +48,7 @@ class SimulatorTest : public ::testing::TestWithParam<IntegratorKind> {
 
 TEST_P(SimulatorTest, ContactFreeTorqueFreeMotionConservesEnergy) {
   const Model model{ModelParams{}};
-  SimSetup setup = Setup(model, 5.0);
+  SimSetup setup = BaseSetup(model, 5.0);
   setup.options.contact = false;
   setup.options.fall.enabled = false;
   setup.options.integrator.rtol = 1e-10;
@@ -76,7 +77,7 @@ TEST_P(SimulatorTest, WithContactAndDampingEnergyNeverIncreases) {
   // tangential spring with exactly 0.5 k_t (x - x_c)^2. The balance below allows that and nothing
   // else, plus the integrator's error (rtol 1e-8) on a total of a few hundred joules.
   const Model model{ModelParams{}};
-  SimSetup setup = Setup(model, 2.0);
+  SimSetup setup = BaseSetup(model, 2.0);
   setup.options.integrator.rtol = 1e-8;
   setup.options.integrator.atol = 1e-10;
   Vec7 q = Stance(model, 0.01, 15.0);
@@ -109,7 +110,7 @@ TEST_P(SimulatorTest, WithContactAndDampingEnergyNeverIncreases) {
 TEST_P(SimulatorTest, DropSettlesWithinAcceptanceNumbers) {
   // DESIGN.md: a 2 cm drop settles with maximum penetration under 5 mm and no rebound over 1 mm.
   const Model model{ModelParams{}};
-  SimSetup setup = Setup(model, 1.5);
+  SimSetup setup = BaseSetup(model, 1.5);
   const Vec7 q = Stance(model, 0.02);
   PdHoldController hold(HoldAt(q));
   const SimResult r = Simulate(setup, q, Vec7::Zero(), &hold);
@@ -135,7 +136,7 @@ TEST_P(SimulatorTest, DropSettlesWithinAcceptanceNumbers) {
 
 TEST_P(SimulatorTest, StandingFeetDoNotSlip) {
   const Model model{ModelParams{}};
-  SimSetup setup = Setup(model, 10.0);
+  SimSetup setup = BaseSetup(model, 10.0);
   const Vec7 q = Stance(model, 0.0);
   PdHoldController hold(HoldAt(q));
   const SimResult r = Simulate(setup, q, Vec7::Zero(), &hold);
@@ -212,7 +213,7 @@ TEST_P(SimulatorTest, TouchdownTimeOfFreeFallIsLocated) {
   // Released at rest, a rigid-posture robot falls without relative motion: the lowest foot
   // reaches the ground at t = sqrt(2 h / g).
   const Model model{ModelParams{}};
-  SimSetup setup = Setup(model, 0.2);
+  SimSetup setup = BaseSetup(model, 0.2);
   const double h = 0.05;
   const Vec7 q = Stance(model, h);
   PassiveController passive;
@@ -231,7 +232,7 @@ TEST_P(SimulatorTest, TouchdownTimeOfFreeFallIsLocated) {
 TEST_P(SimulatorTest, SaturationIsAppliedAndCounted) {
   // Asking the knees for a large sudden flexion with high gains needs more than 75 N m.
   const Model model{ModelParams{}};
-  SimSetup setup = Setup(model, 0.3);
+  SimSetup setup = BaseSetup(model, 0.3);
   const Vec7 q = Stance(model, 0.0);
   PdHoldParams p = HoldAt(q);
   p.kp = Vec4::Constant(5000.0);
@@ -253,7 +254,7 @@ TEST_P(SimulatorTest, SaturationIsAppliedAndCounted) {
 TEST_P(SimulatorTest, FeetLandOnObstacleTop) {
   // Dropped over a wide obstacle, both feet land on its top and stand there.
   const Model model{ModelParams{}};
-  SimSetup setup = Setup(model, 1.0);
+  SimSetup setup = BaseSetup(model, 1.0);
   const double kHeight = 0.05;
   const Vec7 q = Stance(model, kHeight + 0.02);
   setup.terrain.obstacles.push_back({-0.5, 1.0, kHeight});
@@ -270,7 +271,7 @@ TEST_P(SimulatorTest, FeetLandOnObstacleTop) {
 
 TEST_P(SimulatorTest, FootSlidingIntoObstacleSideTrips) {
   const Model model{ModelParams{}};
-  SimSetup setup = Setup(model, 1.0);
+  SimSetup setup = BaseSetup(model, 1.0);
   const Vec7 q = Stance(model, 0.005);
   const double front_x = FootPosition(model, q, 0).x();
   setup.terrain.obstacles.push_back({front_x + 0.03, 0.2, 0.05});
@@ -284,7 +285,7 @@ TEST_P(SimulatorTest, FootSlidingIntoObstacleSideTrips) {
 
 TEST_P(SimulatorTest, IntegratorFailureEndsRunWithReason) {
   const Model model{ModelParams{}};
-  SimSetup setup = Setup(model, 1.0);
+  SimSetup setup = BaseSetup(model, 1.0);
   setup.options.integrator.max_steps_per_call = 1;
   setup.options.integrator.rtol = 1e-14;
   setup.options.integrator.atol = 1e-16;
@@ -298,7 +299,7 @@ TEST_P(SimulatorTest, IntegratorFailureEndsRunWithReason) {
 
 TEST_P(SimulatorTest, DeterministicAcrossThreadsSharingOneModel) {
   const Model model{ModelParams{}};
-  const SimSetup setup = Setup(model, 1.0);
+  const SimSetup setup = BaseSetup(model, 1.0);
   Vec7 q = Stance(model, 0.01);
   q[kQ12] = -0.2;
   auto run = [&](SimResult* out) {
@@ -331,7 +332,7 @@ TEST_P(SimulatorTest, TrunkPushDeliversItsImpulse) {
   ModelParams params;
   params.gravity = 0.0;
   const Model model(params);
-  SimSetup setup = Setup(model, 0.5);
+  SimSetup setup = BaseSetup(model, 0.5);
   setup.options.contact = false;
   setup.pushes = {{0.1, 0.2, Vec2(50.0, 20.0), 0.3}};
   const Vec7 q0 = Stance(model, 0.5);
@@ -350,7 +351,7 @@ TEST_P(SimulatorTest, TrunkPushDeliversItsImpulse) {
 
 TEST_P(SimulatorTest, RunStopsAtItsDistance) {
   const Model model{ModelParams{}};
-  SimSetup setup = Setup(model, 5.0);
+  SimSetup setup = BaseSetup(model, 5.0);
   setup.options.contact = false;
   setup.options.fall.enabled = false;
   setup.options.stop_distance = 0.25;

@@ -1,6 +1,7 @@
 #include "rabbit/scenario/batch.h"
 
 #include <atomic>
+#include <cctype>
 #include <exception>
 #include <mutex>
 #include <regex>
@@ -11,7 +12,41 @@
 
 namespace rabbit {
 
+std::string RegexFilterProblem(const std::string& filter) {
+  // The digits from position i on: false when they are a number above the limit.
+  auto number_ok = [&filter](std::size_t i) {
+    long value = 0;
+    for (; i < filter.size() && std::isdigit(static_cast<unsigned char>(filter[i])); ++i) {
+      value = value * 10 + (filter[i] - '0');
+      if (value > kMaxRegexNumber) return false;
+    }
+    return true;
+  };
+  const std::string problem = "numbers in back-references and {n,m} repeats must be at most " +
+                              std::to_string(kMaxRegexNumber);
+  bool in_braces = false;
+  for (std::size_t i = 0; i < filter.size(); ++i) {
+    const char c = filter[i];
+    if (c == '\\') {
+      if (!number_ok(i + 1)) return problem;
+      ++i;  // the escaped character is no brace
+    } else if (c == '{') {
+      in_braces = true;
+      if (!number_ok(i + 1)) return problem;
+    } else if (c == ',' && in_braces) {
+      if (!number_ok(i + 1)) return problem;
+    } else if (c == '}') {
+      in_braces = false;
+    }
+  }
+  return "";
+}
+
 std::vector<BatchJob> PlanBatch(const Suite& suite, const std::string& filter) {
+  const std::string problem = RegexFilterProblem(filter);
+  if (!problem.empty()) {
+    throw InputError("--filter", 0, filter, "not a usable regular expression: " + problem);
+  }
   std::regex pattern;
   try {
     pattern = std::regex(filter, std::regex::ECMAScript);

@@ -22,6 +22,13 @@ struct BatchJob {
 // empty = all), with its main variant then its baselines. Throws InputError for a bad regex.
 std::vector<BatchJob> PlanBatch(const Suite& suite, const std::string& filter);
 
+// Why std::regex must not be given `filter`, or "" when it may: a number in a back-reference or a
+// {n,m} repeat above kMaxRegexNumber. libstdc++ reads those numbers with a signed overflow (found
+// by fuzzing: the back-reference \4444444444444444444) and builds one state per repeat, so huge
+// ones are undefined behaviour or exhaust memory; names of scenarios need neither.
+constexpr long kMaxRegexNumber = 1000;
+std::string RegexFilterProblem(const std::string& filter);
+
 // Runs the jobs on `threads` threads (0: all cores). Loads each gait library once. For every
 // finished run calls on_done(job index, run) from the worker thread that ran it, serialised by a
 // mutex (so it may write files and print). Stops taking new jobs after an exception in a run or
