@@ -17,8 +17,8 @@ constexpr double kDeg = M_PI / 180.0;
 // The searched parameters, each mapped to [0, 1] between its bounds.
 struct Param {
   const char* name;
-  double lo, hi;
-  double scale;  // stored value = value * scale (degrees -> radians)
+  double lo, hi;  // default bounds
+  double scale;   // stored value = value * scale (degrees -> radians)
   double* (*field)(GaitSpec*);
 };
 const std::array<Param, 10> kParams = {{
@@ -35,18 +35,19 @@ const std::array<Param, 10> kParams = {{
 }};
 constexpr int kDim = static_cast<int>(kParams.size());
 
-std::vector<double> ToUnit(GaitSpec spec) {
+using Bounds = std::array<std::pair<double, double>, kSynthesisParams>;
+
+std::vector<double> ToUnit(GaitSpec spec, const Bounds& b) {
   std::vector<double> x(kDim);
   for (int i = 0; i < kDim; ++i) {
     const double v = *kParams[i].field(&spec) / kParams[i].scale;
-    x[i] = std::clamp((v - kParams[i].lo) / (kParams[i].hi - kParams[i].lo), 0.0, 1.0);
+    x[i] = std::clamp((v - b[i].first) / (b[i].second - b[i].first), 0.0, 1.0);
   }
   return x;
 }
-GaitSpec FromUnit(const double* x, GaitSpec spec) {
+GaitSpec FromUnit(const double* x, GaitSpec spec, const Bounds& b) {
   for (int i = 0; i < kDim; ++i) {
-    *kParams[i].field(&spec) =
-        (kParams[i].lo + x[i] * (kParams[i].hi - kParams[i].lo)) * kParams[i].scale;
+    *kParams[i].field(&spec) = (b[i].first + x[i] * (b[i].second - b[i].first)) * kParams[i].scale;
   }
   return spec;
 }
@@ -67,7 +68,7 @@ double Objective(unsigned n, const double* x, double* grad, void* data) {
   (void)n;
   (void)grad;  // derivative-free algorithms only
   auto* s = static_cast<Search*>(data);
-  const GaitSpec spec = FromUnit(x, s->base);
+  const GaitSpec spec = FromUnit(x, s->base, s->options->bounds);
   const GaitRun run = WalkGait(*s->setup, spec, s->options->walk_duration, s->options->window);
   const double cost = GaitCost(run.metrics, *s->options);
   ++s->evaluations;
@@ -119,7 +120,26 @@ const double kTable2[5][4] = {{0.4, 20, -7, 0},
 
 }  // namespace
 
+const std::array<const char*, kSynthesisParams> kSynthesisParamNames = [] {
+  std::array<const char*, kSynthesisParams> names{};
+  for (int i = 0; i < kDim; ++i) names[i] = kParams[i].name;
+  return names;
+}();
+
+std::array<std::pair<double, double>, kSynthesisParams> DefaultSynthesisBounds() {
+  Bounds b{};
+  for (int i = 0; i < kDim; ++i) b[i] = {kParams[i].lo, kParams[i].hi};
+  return b;
+}
+
 bool SynthesisOptions::IsValid(std::string* error) const {
+  for (int i = 0; i < kDim; ++i) {
+    if (!(std::isfinite(bounds[i].first) && std::isfinite(bounds[i].second) &&
+          bounds[i].first < bounds[i].second)) {
+      *error = std::string("bounds of ") + kParams[i].name + ": need finite lower < upper";
+      return false;
+    }
+  }
   if (!(std::isfinite(target_v_m) && target_v_m > 0.05 && target_v_m < 2.0)) {
     *error = "target velocity must be in (0.05, 2) m/s";
     return false;
@@ -149,9 +169,9 @@ GaitSpec InitialGaitSpec(double v) {
   const double w = (v - kTable2[i][0]) / (kTable2[i + 1][0] - kTable2[i][0]);
   auto lerp = [&](int c) { return kTable2[i][c] + w * (kTable2[i + 1][c] - kTable2[i][c]); };
   GaitSpec spec;
-  spec.rules.qr1_dsw = std::clamp(lerp(1), 12.0, 48.0) * kDeg;
+  spec.rules.qr1_dsw = std::clamp(lerp(1), 12.0, 58.0) * kDeg;
   spec.rules.qi2_dsw = std::clamp(lerp(2), -28.0, -3.0) * kDeg;
-  spec.rules.q0_d = std::clamp(lerp(3), -4.0, 14.0) * kDeg;
+  spec.rules.q0_d = std::clamp(lerp(3), -4.0, 24.0) * kDeg;
   spec.start_speed = v;
   return spec;
 }
@@ -188,14 +208,14 @@ SynthesisResult SynthesizeGait(const SimSetup& setup, const SynthesisOptions& op
       options.local_algorithm == "bobyqa" ? NLOPT_LN_BOBYQA : NLOPT_LN_SBPLX;
   nlopt_srand(options.seed);
 
-  std::vector<double> x = ToUnit(search.base);
+  std::vector<double> x = ToUnit(search.base, options.bounds);
   RunStage(local, "local", options.budget / 3, &x, &search);
   if (!MeetsCriteria(search.best_metrics, options)) {
-    x = ToUnit(search.best_spec);
+    x = ToUnit(search.best_spec, options.bounds);
     RunStage(NLOPT_GN_CRS2_LM, "global", options.budget / 2, &x, &search);
   }
   if (!MeetsCriteria(search.best_metrics, options)) {
-    x = ToUnit(search.best_spec);
+    x = ToUnit(search.best_spec, options.bounds);
     RunStage(local, "polish", options.budget - search.evaluations, &x, &search);
   }
   SynthesisResult result;

@@ -6,12 +6,20 @@
 #ifndef RABBIT_OPTIMIZERS_GAIT_SYNTHESIS_H_
 #define RABBIT_OPTIMIZERS_GAIT_SYNTHESIS_H_
 
+#include <array>
 #include <functional>
 #include <string>
+#include <utility>
 
 #include "rabbit/gait/gait_walk.h"
 
 namespace rabbit {
+
+// The searched parameters, in this order (angles in degrees, as in a targets file's `bounds`).
+constexpr int kSynthesisParams = 10;
+extern const std::array<const char*, kSynthesisParams> kSynthesisParamNames;
+// Default bounds of each searched parameter (degrees, N m, s, gains, m/s).
+std::array<std::pair<double, double>, kSynthesisParams> DefaultSynthesisBounds();
 
 struct SynthesisOptions {
   double target_v_m = 0.6;     // m/s
@@ -25,6 +33,8 @@ struct SynthesisOptions {
   double v_tolerance = 0.02;    // m/s
   double l_tolerance = 0.02;    // m
   double max_l_spread = 0.008;  // m, step-to-step variation of L_step over the window
+  // Search box, per parameter of kSynthesisParamNames (lower < upper).
+  std::array<std::pair<double, double>, kSynthesisParams> bounds = DefaultSynthesisBounds();
   bool IsValid(std::string* error) const;
 };
 

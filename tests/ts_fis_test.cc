@@ -421,10 +421,48 @@ TEST(DefaultGaitPatternTest, Structure) {
   EXPECT_EQ(fis.rules.size(), 25u);
   EXPECT_TRUE(std::isnan(fis.default_value));
 
-  EXPECT_THROW(DefaultGaitPattern({0.4, 0.5, 0.6, 0.7}), std::invalid_argument);
+  EXPECT_THROW(DefaultGaitPattern({0.4}), std::invalid_argument);
+  EXPECT_THROW(DefaultGaitPattern(std::vector<double>(kMaxGaitPatternGaits + 1, 0.5)),
+               std::invalid_argument);
   EXPECT_THROW(DefaultGaitPattern({0.4, 0.5, 0.5, 0.7, 0.8}), std::invalid_argument);
   EXPECT_THROW(DefaultGaitPattern({0.4, 0.5, kNaN, 0.7, 0.8}), std::invalid_argument);
   EXPECT_THROW(DefaultGaitPattern({-0.1, 0.5, 0.6, 0.7, 0.8}), std::invalid_argument);
+}
+
+// Any N_r: the generalised Table 3 is the chapter's for N_r = 5, and for other N_r each rule
+// selects the documented gait; at a velocity centre and a d_obs peak that gait alone is used.
+TEST(DefaultGaitPatternTest, AnyNumberOfGaitsGeneralisesTable3) {
+  const int kTable3[5][5] = {
+      {4, 4, 4, 4, 5}, {5, 5, 5, 5, 5}, {1, 1, 1, 1, 1}, {1, 2, 3, 4, 4}, {1, 2, 3, 4, 5}};
+  for (int row = 0; row < 5; ++row) {
+    for (int column = 0; column < 5; ++column) {
+      EXPECT_EQ(GaitPatternRule(row, column, 5), kTable3[row][column]) << row << ", " << column;
+    }
+  }
+  const std::vector<double> v = {0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0};
+  const int n = static_cast<int>(v.size());
+  const TsFis fis = DefaultGaitPattern(v);
+  std::string error;
+  ASSERT_TRUE(fis.IsValid(&error)) << error;
+  ASSERT_EQ(fis.inputs[0].sets.size(), v.size());
+  EXPECT_EQ(fis.inputs[0].sets[0].name, "V1");
+  EXPECT_EQ(fis.inputs[0].sets[7].name, "V8");
+  EXPECT_EQ(fis.rules.size(), 5u * v.size());
+  EXPECT_EQ(fis.output_max, 8.0);
+  const double peaks[5] = {0.0, 0.15, 0.30, 0.45, 0.8};  // d_obs VerySmall .. VeryBig
+  const int expected_far[8] = {1, 2, 3, 4, 5, 6, 7, 8};
+  TsFis::Result result;
+  for (int column = 0; column < n; ++column) {
+    // Expected cells written out: VerySmall n-1 (n at the top), Small n, Medium 1, Big
+    // min(k, n-1), VeryBig k.
+    const int k = column + 1;
+    const int expected[5] = {k < n ? n - 1 : n, n, 1, std::min(k, n - 1), expected_far[column]};
+    for (int row = 0; row < 5; ++row) {
+      fis.Evaluate({v[column], peaks[row]}, &result);
+      ASSERT_TRUE(result.fired);
+      EXPECT_NEAR(result.output, expected[row], 1e-12) << "V_M " << v[column] << ", row " << row;
+    }
+  }
 }
 
 // At a velocity centre and a d_obs peak exactly one rule fires: the output is Table 3's cell.

@@ -141,11 +141,29 @@ std::vector<SynthesisOptions> DefaultTargets() {
   return out;
 }
 
+// A `bounds` table: `name = [lower, upper]` for any of kSynthesisParamNames, over *bounds.
+void ReadBounds(TomlReader& t, std::array<std::pair<double, double>, kSynthesisParams>* bounds) {
+  if (!t.Has("bounds")) return;
+  TomlReader b = t.Table("bounds");
+  for (int i = 0; i < kSynthesisParams; ++i) {
+    const char* name = kSynthesisParamNames[i];
+    if (!b.Has(name)) continue;
+    const std::vector<double> v = b.Doubles(name, {}, 2);
+    if (!(v[0] < v[1])) b.Fail(name, "need [lower, upper] with lower < upper");
+    (*bounds)[i] = {v[0], v[1]};
+  }
+  b.Finish();
+}
+
 std::vector<SynthesisOptions> ReadTargets(const std::string& path) {
   TomlReader root = TomlReader::ParseFile(path);
+  std::array<std::pair<double, double>, kSynthesisParams> common = DefaultSynthesisBounds();
+  ReadBounds(root, &common);
   std::vector<SynthesisOptions> out;
   for (TomlReader& t : root.TableArray("gait")) {
     SynthesisOptions o;
+    o.bounds = common;
+    ReadBounds(t, &o.bounds);
     o.target_v_m = t.RequiredDouble("v_m");
     o.target_l_step = t.Double("l_step", 0.0);
     o.seed = static_cast<unsigned>(t.Integer("seed", o.seed, 0, 4294967295L));

@@ -208,6 +208,31 @@ int RunFisEval(const FisArgs& a) {
   return 0;
 }
 
+// Writes the default gait pattern (Table 3 generalised to the database's N_r gaits, V_M sets at
+// their measured velocities) for a gait database.
+int RunFisGenerate(const std::string& gaits_dir, const std::string& out) {
+  namespace fs = std::filesystem;
+  const std::string index_path = (fs::path(gaits_dir) / "index.csv").string();
+  const std::vector<GaitIndexEntry> index = ReadGaitIndex(index_path);
+  std::vector<double> v;
+  for (const GaitIndexEntry& e : index) {
+    if (!v.empty() && !(e.measured_v_m > v.back())) {
+      throw InputError(
+          index_path, 0, "measured_v_m",
+          "the gaits must be listed by strictly increasing measured velocity (" + e.name + ")");
+    }
+    v.push_back(e.measured_v_m);
+  }
+  if (v.size() < 2 || v.size() > kMaxGaitPatternGaits) {
+    throw InputError(index_path, 0, "",
+                     "the gait pattern needs 2 to " + std::to_string(kMaxGaitPatternGaits) +
+                         " reference gaits, found " + std::to_string(v.size()));
+  }
+  SaveFll(DefaultGaitPattern(v), out, DefaultGaitPatternComment(v));
+  std::printf("wrote %s: N_r = %zu gaits, %zu rules\n", out.c_str(), v.size(), 5 * v.size());
+  return 0;
+}
+
 }  // namespace
 
 Command RegisterTrain(CLI::App* app) {
@@ -235,7 +260,14 @@ Command RegisterFis(CLI::App* app) {
   CLI::Option* e =
       eval->add_option("--e-deg", a->e, "Stance hip angle e, deg: print the merged references");
   eval->add_option("--networks", a->networks, "Networks directory (with --e)");
-  return {fis, [a, e] {
+  auto gen_gaits = std::make_shared<std::string>("gaits/reference");
+  auto gen_out = std::make_shared<std::string>("gaits/gait_pattern.fll");
+  CLI::App* gen = fis->add_subcommand(
+      "generate", "Write the default gait pattern (Table 3 generalised) for a gait database");
+  gen->add_option("--gaits", *gen_gaits, "Gait database directory");
+  gen->add_option("--out", *gen_out, "FLL file to write");
+  return {fis, [a, e, gen, gen_gaits, gen_out] {
+            if (gen->parsed()) return RunFisGenerate(*gen_gaits, *gen_out);
             a->has_e = e->count() > 0;
             return RunFisEval(*a);
           }};

@@ -110,6 +110,10 @@ bool WalkerParams::IsValid(std::string* error) const {
     *error = "d_obs_max must be > 0";
     return false;
   }
+  if (!(std::isfinite(fis_v_lead) && fis_v_lead >= 0.0 && fis_v_lead <= 2.0)) {
+    *error = "fis_v_lead must be in [0, 2]";
+    return false;
+  }
   if (v_m_average_steps < 1 || v_m_average_steps > 100) {
     *error = "v_m_average_steps must be in [1, 100]";
     return false;
@@ -196,7 +200,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   if (p_.d_obs_noise > 0.0) {
     d_obs = std::clamp(d_obs + p_.d_obs_noise * Gaussian(), 0.0, p_.d_obs_max);
   }
-  SetContext(v_m_, d_obs);
+  SetContext(v_m_ + p_.fis_v_lead * (v_d - v_m_), d_obs);
   // The foot lift is armed for the step over and for the trailing leg.
   lift_armed_ = d_obs < p_.lift_d_obs;
   if (obs.terrain != nullptr) {

@@ -306,30 +306,26 @@ void TsFis::Evaluate(const std::vector<double>& x, Result* result) const {
 
 namespace {
 
-constexpr int kGaitSets = 5;
-const char* const kSetNames[kGaitSets] = {"VerySmall", "Small", "Medium", "Big", "VeryBig"};
+// The d_obs partition: five sets (the chapter's), whatever N_r.
+constexpr int kObstacleSets = 5;
+const char* const kSetNames[kObstacleSets] = {"VerySmall", "Small", "Medium", "Big", "VeryBig"};
 // d_obs peaks (m): VerySmall is 1 up to the first, VeryBig from the last.
-constexpr double kObstaclePeaks[kGaitSets] = {0.0, 0.15, 0.30, 0.45, 0.50};
-// Table 3: rows d_obs, columns V_M (VerySmall..VeryBig each); cell k = use O^k.
-constexpr int kTable3[kGaitSets][kGaitSets] = {
-    {4, 4, 4, 4, 5},  // d_obs VerySmall
-    {5, 5, 5, 5, 5},  // d_obs Small
-    {1, 1, 1, 1, 1},  // d_obs Medium
-    {1, 2, 3, 4, 4},  // d_obs Big
-    {1, 2, 3, 4, 5},  // d_obs VeryBig
-};
+const std::vector<double> kObstaclePeaks = {0.0, 0.15, 0.30, 0.45, 0.50};
+enum ObstacleRow { kVerySmall = 0, kSmall, kMedium, kBig, kVeryBig };
 
-// Five sets peaking at p[0..4]: a falling shoulder, three triangles, a rising shoulder.
-std::vector<FuzzySet> RuspiniSets(const double* p) {
-  std::vector<FuzzySet> sets(kGaitSets);
-  for (int s = 0; s < kGaitSets; ++s) {
-    sets[s].name = kSetNames[s];
+// Sets peaking at p[0..n-1] (n >= 2): a falling shoulder, n - 2 triangles, a rising shoulder.
+std::vector<FuzzySet> RuspiniSets(const std::vector<double>& p,
+                                  const std::vector<std::string>& names) {
+  const int n = static_cast<int>(p.size());
+  std::vector<FuzzySet> sets(n);
+  for (int s = 0; s < n; ++s) {
+    sets[s].name = names[s];
     Membership& m = sets[s].membership;
     if (s == 0) {
       m.shape = Membership::Shape::kRampDown;
       m.a = p[0];
       m.b = p[1];
-    } else if (s == kGaitSets - 1) {
+    } else if (s == n - 1) {
       m.shape = Membership::Shape::kRampUp;
       m.a = p[s - 1];
       m.b = p[s];
@@ -344,22 +340,48 @@ std::vector<FuzzySet> RuspiniSets(const double* p) {
 }
 
 void CheckReferenceVelocities(const std::vector<double>& v) {
-  bool ok = v.size() == kGaitSets;
+  bool ok = v.size() >= 2 && v.size() <= kMaxGaitPatternGaits;
   for (std::size_t i = 0; ok && i < v.size(); ++i) {
     ok = std::isfinite(v[i]) && v[i] > 0 && (i == 0 || v[i] > v[i - 1]);
   }
   if (!ok) {
-    throw std::invalid_argument(
-        "DefaultGaitPattern: needs 5 finite, positive, strictly increasing reference velocities");
+    throw std::invalid_argument("DefaultGaitPattern: needs 2 to " +
+                                std::to_string(kMaxGaitPatternGaits) +
+                                " finite, positive, strictly increasing reference velocities");
   }
 }
 
 double VelocityRangeMax(const std::vector<double>& v) { return std::max(1.5, 1.5 * v.back()); }
 
+// The V_M sets' names: the chapter's five for N_r = 5, else V1..VN.
+std::vector<std::string> VelocitySetNames(int n) {
+  std::vector<std::string> names;
+  for (int k = 0; k < n; ++k)
+    names.push_back(n == kObstacleSets ? kSetNames[k] : "V" + std::to_string(k + 1));
+  return names;
+}
+
 }  // namespace
+
+int GaitPatternRule(int d_obs_row, int v_m_set, int n) {
+  const int k = v_m_set + 1;  // the gait of this velocity: O^k
+  switch (d_obs_row) {
+    case kVerySmall:
+      return k < n ? n - 1 : n;
+    case kSmall:
+      return n;
+    case kMedium:
+      return 1;
+    case kBig:
+      return std::min(k, n - 1);
+    default:
+      return k;
+  }
+}
 
 TsFis DefaultGaitPattern(const std::vector<double>& reference_velocities) {
   CheckReferenceVelocities(reference_velocities);
+  const int n = static_cast<int>(reference_velocities.size());
   TsFis fis;
   fis.name = "gait_pattern";
 
@@ -367,28 +389,29 @@ TsFis DefaultGaitPattern(const std::vector<double>& reference_velocities) {
   v_m.name = "V_M";
   v_m.min = 0.0;
   v_m.max = VelocityRangeMax(reference_velocities);
-  v_m.sets = RuspiniSets(reference_velocities.data());
+  v_m.sets = RuspiniSets(reference_velocities, VelocitySetNames(n));
   FuzzyInput d_obs;
   d_obs.name = "d_obs";
   d_obs.min = 0.0;
   d_obs.max = 1.0;
-  d_obs.sets = RuspiniSets(kObstaclePeaks);
+  d_obs.sets =
+      RuspiniSets(kObstaclePeaks, std::vector<std::string>(kSetNames, kSetNames + kObstacleSets));
   fis.inputs = {v_m, d_obs};
 
   fis.output_name = "gait";
-  for (int k = 1; k <= kGaitSets; ++k) {
+  for (int k = 1; k <= n; ++k) {
     fis.output_terms.push_back("O" + std::to_string(k));
     fis.output_values.push_back(static_cast<double>(k));
   }
   fis.default_value = kNaN;
   fis.output_min = 1.0;
-  fis.output_max = kGaitSets;
+  fis.output_max = n;
 
-  for (int row = 0; row < kGaitSets; ++row) {
-    for (int column = 0; column < kGaitSets; ++column) {
+  for (int row = 0; row < kObstacleSets; ++row) {
+    for (int column = 0; column < n; ++column) {
       FuzzyRule rule;
       rule.antecedent = {column, row};  // {V_M set, d_obs set}
-      rule.consequent = kTable3[row][column] - 1;
+      rule.consequent = GaitPatternRule(row, column, n) - 1;
       fis.rules.push_back(rule);
     }
   }
@@ -398,24 +421,33 @@ TsFis DefaultGaitPattern(const std::vector<double>& reference_velocities) {
 std::string DefaultGaitPatternComment(const std::vector<double>& reference_velocities) {
   CheckReferenceVelocities(reference_velocities);
   const std::vector<double>& c = reference_velocities;
+  const int n = static_cast<int>(c.size());
+  const std::vector<std::string> v_names = VelocitySetNames(n);
   std::ostringstream out;
   out << "The gait pattern (chapter section 5.1, DESIGN.md section 4): a zero-order Takagi-Sugeno\n"
-         "fuzzy system choosing among the five reference gaits from the measured average velocity\n"
+         "fuzzy system choosing among the N_r = "
+      << n
+      << " reference gaits from the measured average velocity\n"
          "V_M (m/s) and the distance d_obs (m) between the swing foot and the next obstacle.\n"
          "Rule activation = product of memberships (eq. 9); the output is the weighted average of\n"
          "the gait indices (eqs. 10-11), and the Fuzzy-CMAC blends the reference gaits' CMACs\n"
          "with the same normalised activations (eq. 13).\n"
          "\n"
-         "Written by rabbit::SaveFll(DefaultGaitPattern(v), path, DefaultGaitPatternComment(v))\n"
-         "(src/rabbit/learn/ts_fis.h, fll.h) with v the measured_v_m column of\n"
-         "gaits/reference/index.csv, in m/s:";
-  for (double v : c) out << ' ' << Num(v);
+         "Written by `rabbit fis generate` (rabbit::DefaultGaitPattern, "
+         "src/rabbit/learn/ts_fis.h)\n"
+         "from the measured_v_m column of the gait database's index.csv, in m/s:\n";
+  for (size_t i = 0; i < c.size(); ++i) out << (i == 0 ? "" : " ") << Num(c[i]);
   out << ".\n"
          "It may be edited: rabbit reads any zero-order Takagi-Sugeno system of this form.\n"
          "\n"
-         "V_M: VerySmall is 1 below the slowest gait's velocity and falls to 0 at the next one;\n"
-         "Small, Medium and Big are triangles peaking at the 2nd, 3rd and 4th velocities with\n"
-         "feet at their neighbours; VeryBig rises from the 4th to the 5th and stays 1 above it.\n"
+         "V_M: "
+      << v_names.front()
+      << " is 1 below the slowest gait's velocity and falls to 0 at the next one;\n"
+         "each middle set is a triangle peaking at its gait's velocity with feet at the\n"
+         "neighbouring gaits' velocities; "
+      << v_names.back()
+      << " rises from the next-to-last velocity and stays 1\n"
+         "above the fastest gait's.\n"
          "d_obs: VerySmall 1 at 0 m (and below) falling to 0 at 0.15 m; Small, Medium, Big\n"
          "triangles peaking at 0.15, 0.30, 0.45 m; VeryBig rising from 0.45 m to 1 at 0.5 m: from\n"
          "0.5 m on (and for d_obs = inf) there is no obstacle and only V_M matters. Neighbouring\n"
@@ -423,17 +455,22 @@ std::string DefaultGaitPatternComment(const std::vector<double>& reference_veloc
          "(nan) is returned only for NaN inputs. Inputs are not clamped to their ranges.\n"
          "FLL's Ramp is 'Ramp start end': 0 at start, 1 at end (falling when start > end).\n"
          "\n"
-         "Rules: the chapter's Table 3, rows d_obs, columns V_M, cell k = use gait O^k:\n"
-         "  d_obs \\ V_M  VerySmall Small Medium Big VeryBig\n";
-  for (int row = 0; row < kGaitSets; ++row) {
+         "Rules: the chapter's Table 3 generalised to N_r gaits (identical for N_r = 5); rows\n"
+         "d_obs, columns V_M, cell k = use gait O^k:\n"
+         "  d_obs \\ V_M ";
+  for (const std::string& name : v_names) out << ' ' << name;
+  out << '\n';
+  for (int row = 0; row < kObstacleSets; ++row) {
     std::string label = kSetNames[row];
     label.resize(13, ' ');
     out << "  " << label;
-    for (int column = 0; column < kGaitSets; ++column) out << " O" << kTable3[row][column];
+    for (int column = 0; column < n; ++column) out << " O" << GaitPatternRule(row, column, n);
     out << '\n';
   }
-  out << "Obstacle far (VeryBig): the step grows with V_M. Medium or Big: shorter steps, to land\n"
-         "just before the obstacle. Small or VerySmall: long steps, to step over it.";
+  out << "Obstacle far (VeryBig): the gait of the velocity. Big: the same, but never the fastest.\n"
+         "Medium: the slowest (shortest) gait, to land just before the obstacle. Small: the\n"
+         "fastest (longest), to step over it; VerySmall: the next-to-fastest (the fastest at the\n"
+         "top velocity).";
   return out.str();
 }
 

@@ -90,21 +90,28 @@ struct TsFis {
   void Evaluate(const std::vector<double>& x, Result* result) const;
 };
 
-// The chapter's gait pattern: inputs V_M (m/s; triangles centred on the reference gaits' measured
+// The chapter's gait pattern generalised to N_r reference gaits (2 <= N_r <=
+// kMaxGaitPatternGaits): inputs V_M (m/s; N_r sets centred on the reference gaits' measured
 // velocities, shoulders at both ends) and d_obs (m; five sets over [0, 0.5], VeryBig a shoulder
-// from 0.45 m up), and Table 3 as the rule base (rows d_obs, columns V_M, cell k = use O^k).
+// from 0.45 m up), and Table 3 generalised (GaitPatternRule) as the rule base.
 //
-// Shapes, with c1 < ... < c5 the five reference velocities (throws std::invalid_argument unless
-// there are five, finite, positive and strictly increasing):
-//   V_M   (range [0, max(1.5, 1.5 c5)] m/s): VerySmall RampDown c1..c2 (1 below c1), Small
-//         Triangle c1 c2 c3, Medium Triangle c2 c3 c4, Big Triangle c3 c4 c5, VeryBig RampUp
-//         c4..c5 (1 above c5).
+// Shapes, with c1 < ... < cN the reference velocities (throws std::invalid_argument unless
+// finite, positive and strictly increasing):
+//   V_M   (range [0, max(1.5, 1.5 cN)] m/s): the first set RampDown c1..c2 (1 below c1), set k
+//         Triangle c(k-1) ck c(k+1), the last RampUp c(N-1)..cN (1 above cN). Names: the
+//         chapter's VerySmall, Small, Medium, Big, VeryBig for N_r = 5, else V1..VN.
 //   d_obs (range [0, 1] m): VerySmall RampDown 0..0.15 (1 at contact and below), Small Triangle
 //         0 0.15 0.30, Medium Triangle 0.15 0.30 0.45, Big Triangle 0.30 0.45 0.50, VeryBig RampUp
 //         0.45..0.50 (1 from 0.5 m on: no obstacle within reach; d_obs = +inf also means none).
 // Both inputs are Ruspini partitions (neighbouring sets cross at 0.5 and sum to 1), so for any
-// finite inputs some rule fires; neither input is clamped. Output gait: O1..O5 = 1..5, range
-// [1, 5], default NaN (only NaN inputs fire nothing). Rules in Table 3's order, row by row.
+// finite inputs some rule fires; neither input is clamped. Output gait: O1..ON = 1..N, range
+// [1, N], default NaN (only NaN inputs fire nothing). Rules row by row (d_obs), N_r per row.
+constexpr std::size_t kMaxGaitPatternGaits = 64;
+// Table 3 generalised: the gait O^k (1-based) of the rule (d_obs set `d_obs_row` 0..4 =
+// VerySmall..VeryBig, V_M set `v_m_set` 0..n-1) for n gaits. VeryBig: k = v_m_set + 1 (the gait
+// of the velocity); Big: min(k, n - 1); Medium: 1 (the slowest, shortest step); Small: n (the
+// longest); VerySmall: n - 1, or n at the top velocity. For n = 5 it is the chapter's Table 3.
+int GaitPatternRule(int d_obs_row, int v_m_set, int n);
 TsFis DefaultGaitPattern(const std::vector<double>& reference_velocities);
 
 // A comment for the FLL file of DefaultGaitPattern(reference_velocities) (see SaveFll): what the

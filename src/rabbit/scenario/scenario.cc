@@ -483,6 +483,7 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
   w.v_m_initial = t->Double("v_m_initial", w.v_m_initial);
   w.v_m_average_steps =
       static_cast<int>(t->Integer("v_m_average_steps", w.v_m_average_steps, 1, 100));
+  w.fis_v_lead = t->Double("fis_v_lead", w.fis_v_lead);
   w.d_obs_max = t->Double("d_obs_max", w.d_obs_max);
   w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
   w.lift_clearance = t->Double("lift_clearance", w.lift_clearance);

@@ -69,6 +69,19 @@ std::string SetOverride(const std::vector<const toml::table*>& layers, const std
       }
       toml::node* element = array->get(index - 1);
       ++i;
+      // Arrays of arrays (such as velocity points [[t, v], ...]): further 1-based indices.
+      while (element->is_array() && i + 1 < parts.size()) {
+        toml::array* inner = element->as_array();
+        size_t j = 0;
+        if (!IsIndex(parts[i + 1], &j) || j < 1 || j > inner->size()) {
+          return "element " + parts[i] + " of '" + key + "' needs a 1-based index within its " +
+                 std::to_string(inner->size()) + " elements";
+        }
+        array = inner;
+        index = j;
+        element = inner->get(j - 1);
+        ++i;
+      }
       if (i + 1 == parts.size()) {
         if (!element->is_number()) return "is not a number in the template";
         array->replace(array->cbegin() + static_cast<std::ptrdiff_t>(index - 1), value);
@@ -88,8 +101,12 @@ std::string SetOverride(const std::vector<const toml::table*>& layers, const std
         next.push_back(n->as_table());
       }
     }
+    // The override layer starts from a copy of the highest layer's table, so that tables taken
+    // whole from one layer (such as [velocity]) keep their other keys.
+    if (out->get(key) == nullptr) {
+      out->insert_or_assign(key, next.empty() ? toml::table{} : *next.front());
+    }
     here = std::move(next);
-    if (out->get(key) == nullptr) out->insert_or_assign(key, toml::table{});
     out = out->get(key)->as_table();
     if (out == nullptr) return "'" + key + "' is not a table";
   }
@@ -167,7 +184,12 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
     TomlReader vary = f.Table("vary");
     f.Finish();
     // The varied keys, in file order.
-    std::vector<std::pair<std::string, std::pair<double, double>>> ranges;
+    struct Range {
+      std::string key;
+      double low = 0.0, high = 0.0;
+      bool random_sign = false;  // the drawn magnitude gets a random sign
+    };
+    std::vector<Range> ranges;
     for (const toml::table* layer : vary.layers()) {
       for (const auto& [key, node] : *layer) {
         const std::string k(key.str());
@@ -175,9 +197,22 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
           vary.Fail(k,
                     "a family member's name and seed are not varied (they come from the family)");
         }
-        const std::vector<double> range = vary.Doubles(k, {}, 2);
+        Range r;
+        r.key = k;
+        std::vector<double> range;
+        if (node.is_table()) {  // { range = [low, high], random_sign = true }
+          TomlReader t = vary.Table(k);
+          if (!t.Has("range")) t.Fail("range", "missing required key 'range'");
+          range = t.Doubles("range", {}, 2);
+          r.random_sign = t.Bool("random_sign", false);
+          t.Finish();
+        } else {
+          range = vary.Doubles(k, {}, 2);
+        }
         if (!(range[0] <= range[1])) vary.Fail(k, "expected [low, high] with low <= high");
-        ranges.push_back({k, {range[0], range[1]}});
+        r.low = range[0];
+        r.high = range[1];
+        ranges.push_back(r);
       }
     }
     vary.Finish();
@@ -194,11 +229,11 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
             "seed", static_cast<int64_t>(
                         CmacHashStep(CmacMix64(seed), static_cast<std::uint64_t>(i)) >> 2));
       }
-      for (size_t k = 0; k < ranges.size(); ++k) {
-        const auto& [key, range] = ranges[k];
-        const double value = FamilyDraw(seed, i, key, range.first, range.second);
-        const std::string error = SetOverride(base, key, value, overrides.get());
-        if (!error.empty()) vary.Fail(key, "'" + key + "' " + error);
+      for (const Range& r : ranges) {
+        double value = FamilyDraw(seed, i, r.key, r.low, r.high);
+        if (r.random_sign && FamilyDraw(seed, i, r.key + "#sign", 0.0, 1.0) < 0.5) value = -value;
+        const std::string error = SetOverride(base, r.key, value, overrides.get());
+        if (!error.empty()) vary.Fail(r.key, "'" + r.key + "' " + error);
       }
       std::vector<std::shared_ptr<const toml::table>> owners = templ.owners();
       owners.push_back(overrides);
