@@ -7,8 +7,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <set>
 
 #include "rabbit/io/error.h"
@@ -179,6 +181,101 @@ value = 0.6
   }
   EXPECT_EQ(positions.size(), 6u);
   EXPECT_NE(a.scenarios[0].seed, a.scenarios[1].seed);
+}
+
+// Issue 7's draws: an element of an array of arrays (velocity points), a magnitude with a random
+// sign, and a varied key of a table taken whole ([velocity]) keeping the table's other keys.
+TEST_F(SuiteTest, FamiliesVaryNestedArraysSignsAndWholeTables) {
+  const std::string text = Walker(R"([[family]]
+name = "v"
+count = 40
+seed = 7
+[family.scenario.velocity]
+profile = "steps"
+points = [[0.0, 0.6], [10.0, 0.6]]
+[[family.scenario.push]]
+start = 8.0
+duration = 0.1
+force_x = 50.0
+height = 0.2
+[family.vary]
+"velocity.points.2.2" = [0.3, 1.0]
+"push.1.force_x" = { range = [20.0, 80.0], random_sign = true }
+)");
+  const Suite suite = LoadSuite(Write(text));
+  ASSERT_EQ(suite.scenarios.size(), 40u);
+  int negative = 0;
+  for (size_t i = 0; i < suite.scenarios.size(); ++i) {
+    const Scenario& s = suite.scenarios[i];
+    const int member = static_cast<int>(i);
+    EXPECT_EQ(s.velocity.kind, VelocityProfile::Kind::kSteps);  // the profile key survived
+    ASSERT_EQ(s.velocity.points.size(), 2u);
+    EXPECT_DOUBLE_EQ(s.velocity.points[0].second, 0.6);  // not varied
+    EXPECT_DOUBLE_EQ(s.velocity.points[1].first, 10.0);
+    EXPECT_DOUBLE_EQ(s.velocity.points[1].second,
+                     FamilyDraw(7, member, "velocity.points.2.2", 0.3, 1.0));
+    ASSERT_EQ(s.pushes.size(), 1u);
+    const double magnitude = FamilyDraw(7, member, "push.1.force_x", 20.0, 80.0);
+    const bool flip = FamilyDraw(7, member, "push.1.force_x#sign", 0.0, 1.0) < 0.5;
+    EXPECT_DOUBLE_EQ(s.pushes[0].force.x(), flip ? -magnitude : magnitude);
+    EXPECT_GE(std::abs(s.pushes[0].force.x()), 20.0);
+    EXPECT_LT(std::abs(s.pushes[0].force.x()), 80.0);
+    negative += s.pushes[0].force.x() < 0.0;
+  }
+  EXPECT_GT(negative, 10);  // both signs, about half each
+  EXPECT_LT(negative, 30);
+  const std::string head = Walker(
+      "[[family]]\nname = \"f\"\ncount = 2\n"
+      "[family.scenario.velocity]\nprofile = \"steps\"\n"
+      "points = [[0.0, 0.6], [10.0, 0.6]]\n[family.vary]\n");
+  ExpectError(head + "\"velocity.points.3.2\" = [0.3, 1.0]\n", 19,
+              "family[1].vary.velocity.points.3.2", "1-based index within its 2");
+  ExpectError(head + "\"velocity.points.1.3\" = [0.3, 1.0]\n", 19,
+              "family[1].vary.velocity.points.1.3", "1-based index within its 2");
+  ExpectError(head + "\"velocity.points.1\" = { random_sign = true }\n", 19,
+              "family[1].vary.velocity.points.1.range", "missing required key 'range'");
+}
+
+// scenarios/robustness_train.toml is robustness.toml on other seeds: the same families and
+// templates, only [suite] and each family's seed and count differ.
+TEST_F(SuiteTest, RobustnessTrainingSuiteMatchesTheHeldOutOne) {
+  const Suite held_out = LoadSuite(kRoot + "/scenarios/robustness.toml");
+  const Suite train = LoadSuite(kRoot + "/scenarios/robustness_train.toml");
+  std::map<std::string, int> held_out_count, train_count;
+  auto family = [](const std::string& name) { return name.substr(0, name.rfind('-')); };
+  for (const Scenario& s : held_out.scenarios) ++held_out_count[family(s.name)];
+  for (const Scenario& s : train.scenarios) ++train_count[family(s.name)];
+  ASSERT_EQ(held_out_count.size(), train_count.size());
+  for (const auto& [name, count] : held_out_count) {
+    EXPECT_GE(count, 100) << name;  // issue 7: at least 100 scenarios per family
+    EXPECT_GT(train_count[name], 0) << name;
+  }
+  // Line by line, the files differ only in the documented places.
+  auto lines = [](const std::string& path) {
+    std::ifstream in(path);
+    std::vector<std::string> out;
+    for (std::string line; std::getline(in, line);) {
+      if (line.empty() || line[0] == '#' || line.rfind("name = \"robustness", 0) == 0 ||
+          line.rfind("description = ", 0) == 0 || line.rfind("count = ", 0) == 0 ||
+          line.rfind("seed = ", 0) == 0) {
+        continue;
+      }
+      out.push_back(line);
+    }
+    return out;
+  };
+  EXPECT_EQ(lines(kRoot + "/scenarios/robustness.toml"),
+            lines(kRoot + "/scenarios/robustness_train.toml"));
+  // No member's draws repeat across the two files (different family seeds).
+  std::set<double> positions;
+  for (const Scenario& s : held_out.scenarios) {
+    if (family(s.name) == "obstacle") positions.insert(s.terrain.obstacles.at(0).x_start);
+  }
+  for (const Scenario& s : train.scenarios) {
+    if (family(s.name) == "obstacle") {
+      EXPECT_EQ(positions.count(s.terrain.obstacles.at(0).x_start), 0u) << s.name;
+    }
+  }
 }
 
 TEST_F(SuiteTest, FamilyErrors) {
