@@ -423,7 +423,7 @@ size_t GroupComparisonFigure(const std::vector<const VariantComparison*>& varian
     << "set style fill solid 0.85 border lc rgb '#555555'\nset boxwidth 0.6 absolute\n"
     << "unset key\nset yrange [0:1.05]\nset title 'success rate (95% Wilson interval)'\n"
     << "plot " << data << " using 1:2:5 with boxes lc rgb variable, " << data
-    << " using 1:2:3:4 with yerrorbars pt 7 ps 0 lw 1.5 lc rgb '#222222'\n";
+    << " using 1:3:(0):($4-$3) with vectors heads size screen 0.012,90 lw 1.5 lc rgb '#222222'\n";
   auto panel = [&](const char* title, int median, int mean, double top) {
     s << "set title " << GnuplotQuote(title) << "\nset yrange [0:" << top << "]\n"
       << "plot " << data << " using 1:" << median << ":5 with boxes lc rgb variable, " << data
@@ -488,7 +488,8 @@ size_t OverviewComparisonFigure(const std::vector<VariantComparison>& rows,
     s << (v == 0 ? "" : ", \\\n  ") << names[v] << " using 1:2 with boxes lc rgb '"
       << VariantColor(variants[v]) << "' title " << GnuplotQuote(VariantShortLabel(variants[v]))
       << " noenhanced, " << names[v]
-      << " using 1:2:3:4 with yerrorbars pt 7 ps 0 lw 1.3 lc rgb '#222222' notitle";
+      << " using 1:3:(0):($4-$3) with vectors heads size screen 0.006,90 lw 1.3 lc rgb '#222222' "
+         "notitle";
   }
   s << '\n';
   return k;
