@@ -4,6 +4,7 @@
 #include <unistd.h>
 #include <sys/wait.h>
 
+#include <cmath>
 #include <csignal>
 #include <cstdio>
 #include <filesystem>
@@ -11,6 +12,7 @@
 #include <map>
 #include <sstream>
 #include <string>
+#include <vector>
 
 namespace {
 
@@ -370,6 +372,149 @@ TEST_F(CliTest, RunBadInputExitsTwoAndLeavesNoReport) {
   EXPECT_FALSE(fs::exists(out));
 }
 
+namespace {
+
+// The cells of a CSV line (RFC 4180 quotes; no cell spans lines in rabbit's files).
+std::vector<std::string> CsvCells(const std::string& line) {
+  std::vector<std::string> cells(1);
+  bool quoted = false;
+  for (size_t i = 0; i < line.size(); ++i) {
+    const char c = line[i];
+    if (quoted && c == '"' && i + 1 < line.size() && line[i + 1] == '"') {
+      cells.back() += '"';
+      ++i;
+    } else if (c == '"') {
+      quoted = !quoted;
+    } else if (c == ',' && !quoted) {
+      cells.emplace_back();
+    } else {
+      cells.back() += c;
+    }
+  }
+  return cells;
+}
+
+// Occurrences of needle in text.
+int Count(const std::string& text, const std::string& needle) {
+  int n = 0;
+  for (size_t at = text.find(needle); at != std::string::npos; at = text.find(needle, at + 1)) ++n;
+  return n;
+}
+
+// A CSV file as rows of column name -> cell.
+std::vector<std::map<std::string, std::string>> CsvRows(const std::string& text) {
+  std::istringstream in(text);
+  std::string line;
+  std::getline(in, line);
+  const std::vector<std::string> header = CsvCells(line);
+  std::vector<std::map<std::string, std::string>> rows;
+  while (std::getline(in, line)) {
+    const std::vector<std::string> cells = CsvCells(line);
+    EXPECT_EQ(cells.size(), header.size()) << line;
+    std::map<std::string, std::string> row;
+    for (size_t k = 0; k < header.size() && k < cells.size(); ++k) row[header[k]] = cells[k];
+    rows.push_back(row);
+  }
+  return rows;
+}
+
+// SmallSuite and a family of four pushed walks beside the pragmatic rules: 11 runs.
+std::string SuiteWithAFamily() {
+  return SmallSuite("") +
+         "[[family]]\nname = \"pushed\"\ncount = 4\nseed = 3\n[family.scenario]\n"
+         "required = false\n[family.scenario.controller]\nbaselines = [\"pragmatic\"]\n"
+         "[[family.scenario.push]]\nstart = 4.0\nduration = 0.1\nforce_x = 0.0\nheight = 0.2\n"
+         "[family.vary]\n\"push.1.force_x\" = [-250.0, 250.0]\n";
+}
+
+}  // namespace
+
+TEST_F(CliTest, HeadToHeadOfAFamilyIsTheSummarysAndRabbitReportRebuildsIt) {
+  const std::string suite = Write("family.toml", SuiteWithAFamily());
+  const fs::path out = dir_ / "out", csv_only = dir_ / "csv_only";
+  const CliRun run = RunCli("run " + suite + " -q --out " + out.string());
+  ASSERT_EQ(run.code, 0) << run.output;
+  const std::string comparison = ReadFile(out / "comparison.csv");
+  const auto summary = CsvRows(ReadFile(out / "summary.csv"));
+  ASSERT_EQ(summary.size(), 11u);
+
+  // The same figures computed here from summary.csv: per group (family, or plain scenario) and
+  // variant, the counts, passed / runs with the Wilson interval (as the roots of the score
+  // test's quadratic), and the speed error over the completed runs.
+  struct Expected {
+    int runs = 0, passed = 0, completed = 0, fell = 0, tripped = 0;
+    std::vector<double> speed_errors;
+  };
+  std::map<std::string, Expected> expected;  // "group/kind/variant"
+  for (const auto& r : summary) {
+    const bool member = !r.at("family").empty();
+    const std::string key = (member ? r.at("family") : r.at("scenario")) + "/" +
+                            (member ? "family" : "scenario") + "/" + r.at("variant");
+    Expected& e = expected[key];
+    ++e.runs;
+    e.passed += r.at("passed") == "1" ? 1 : 0;
+    e.completed += r.at("outcome") == "completed" ? 1 : 0;
+    e.fell += r.at("outcome") == "fell" ? 1 : 0;
+    e.tripped += r.at("outcome") == "tripped" ? 1 : 0;
+    if (r.at("outcome") == "completed") {
+      e.speed_errors.push_back(std::stod(r.at("mean_abs_speed_error_m_s")));
+    }
+    EXPECT_EQ(r.at("pattern_memory_bytes") == "0", r.at("variant") == "pragmatic");
+  }
+  EXPECT_EQ(expected.count("pushed/family/fuzzy_cmac"), 1u);
+  EXPECT_EQ(expected.at("pushed/family/fuzzy_cmac").runs, 4);
+  const auto rows = CsvRows(comparison);
+  ASSERT_EQ(rows.size(), expected.size());  // walk x 2, second, pushed x 2
+  const double kTolerance = 1e-9;           // the files' 10 significant digits
+  const double z = 1.959963984540054;
+  for (const auto& c : rows) {
+    const std::string key = c.at("group") + "/" + c.at("group_kind") + "/" + c.at("variant");
+    ASSERT_EQ(expected.count(key), 1u) << key;
+    const Expected& e = expected.at(key);
+    EXPECT_EQ(std::stoi(c.at("runs")), e.runs) << key;
+    EXPECT_EQ(std::stoi(c.at("passed")), e.passed) << key;
+    EXPECT_EQ(std::stoi(c.at("completed")), e.completed) << key;
+    EXPECT_EQ(std::stoi(c.at("fell")), e.fell) << key;
+    EXPECT_EQ(std::stoi(c.at("tripped")), e.tripped) << key;
+    const double n = e.runs, p = e.passed / n;
+    EXPECT_NEAR(std::stod(c.at("success_rate")), p, kTolerance) << key;
+    const double a = 1.0 + z * z / n, b = -(2.0 * p + z * z / n);
+    const double root = std::sqrt(b * b - 4.0 * a * p * p);
+    EXPECT_NEAR(std::stod(c.at("ci_low")), (-b - root) / (2.0 * a), kTolerance) << key;
+    EXPECT_NEAR(std::stod(c.at("ci_high")), (-b + root) / (2.0 * a), kTolerance) << key;
+    EXPECT_EQ(std::stoi(c.at("speed_error_runs")), static_cast<int>(e.speed_errors.size()));
+    if (!e.speed_errors.empty()) {
+      double mean = 0.0;
+      for (double v : e.speed_errors) mean += v / static_cast<double>(e.speed_errors.size());
+      EXPECT_NEAR(std::stod(c.at("speed_error_mean_m_s")), mean, kTolerance) << key;
+    } else {
+      EXPECT_EQ(c.at("speed_error_mean_m_s"), "nan") << key;
+    }
+  }
+  // The family's outcomes are mixed (else this test would check little).
+  const Expected& walker = expected.at("pushed/family/fuzzy_cmac");
+  const Expected& rules = expected.at("pushed/family/pragmatic");
+  EXPECT_LT(walker.completed + rules.completed, 8);
+  EXPECT_GT(walker.completed + rules.completed, 0);
+
+  // The page opens with the head-to-head: a table per group, the family's chart.
+  const std::string page = ReadFile(out / "index.html");
+  EXPECT_NE(page.find("<section id=\"head-to-head\">"), std::string::npos);
+  EXPECT_EQ(Count(page, "<table class=\"comparison\">"), 3);
+  if (run.output.find("figures left out") == std::string::npos) {
+    EXPECT_EQ(Count(page, "alt=\"head-to-head of pushed\""), 1);
+  }
+  // rabbit report rebuilds comparison.csv from summary.csv alone; --no-html writes it too.
+  fs::remove(out / "comparison.csv");
+  fs::remove(out / "index.html");
+  ASSERT_EQ(RunCli("report -q " + out.string()).code, 0);
+  EXPECT_EQ(ReadFile(out / "comparison.csv"), comparison);
+  EXPECT_TRUE(fs::exists(out / "index.html"));
+  ASSERT_EQ(RunCli("run " + suite + " --no-html -q --out " + csv_only.string()).code, 0);
+  EXPECT_EQ(ReadFile(csv_only / "comparison.csv"), comparison);
+  EXPECT_FALSE(fs::exists(csv_only / "index.html"));
+}
+
 TEST_F(CliTest, ShardsMergedByReportEqualAnUnshardedRun) {
   const std::string suite = Write("small.toml", SmallSuite(""));
   const fs::path one = dir_ / "one", merged = dir_ / "merged";
@@ -405,6 +550,7 @@ TEST_F(CliTest, ShardsMergedByReportEqualAnUnshardedRun) {
   }
   EXPECT_FALSE(fs::exists(merged / "shards"));
   EXPECT_TRUE(fs::exists(merged / "index.html"));
+  EXPECT_EQ(ReadFile(one / "comparison.csv"), ReadFile(merged / "comparison.csv"));
   EXPECT_EQ(ReadFile(merged / ".rabbit-report"), ReadFile(one / ".rabbit-report"));
   for (const auto& entry : fs::directory_iterator(dir_)) {
     EXPECT_EQ(entry.path().filename().string().find(".partial"), std::string::npos);
@@ -530,6 +676,7 @@ TEST_F(CliTest, RunKilledMidwayResumesToTheReportOfAnUninterruptedRun) {
     }
     EXPECT_FALSE(fs::exists(out / run / ".rabbit-run")) << run;  // the markers are gone
   }
+  EXPECT_EQ(ReadFile(one / "comparison.csv"), ReadFile(out / "comparison.csv"));
   // The finished runs were not run again: their rows, wall time included, are the marker's.
   for (const auto& [run, marker] : before) {
     const std::string row = marker.substr(marker.find('\n') + 1);

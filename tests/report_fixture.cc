@@ -208,8 +208,8 @@ ReportFixture WriteReportFixture(const std::string& dir, double duration) {
   }
   WriteText((fs::path(dir) / "summary.csv").string(), summary);
   // walk: stick diagram at the start, per-step plot, tracking, weights; obstacle: the same and a
-  // stick diagram around the obstacle.
-  fixture.expected_figures = 4 + 5;
+  // stick diagram around the obstacle; the head-to-head's overview of the two scenarios.
+  fixture.expected_figures = 4 + 5 + 1;
   return fixture;
 }
 

@@ -1,7 +1,8 @@
 // The reports rendered by a real browser: headless Chromium loads the generated index.html of a
 // batch run; every replay has drawn its first frame, no script error was raised, the figures
-// are in the DOM; and a screenshot of the page is taken (a non-trivial PNG). And the tuning job's
-// page: no script error, and every figure decodes as an image.
+// are in the DOM (the head-to-head section too) and decode as images; and a screenshot of the
+// page is taken (a non-trivial PNG). And the tuning job's page: no script error, and every
+// figure decodes as an image.
 #include <gtest/gtest.h>
 #include <unistd.h>
 
@@ -88,6 +89,8 @@ TEST(ReportRenderTest, ChromiumDrawsEveryReplayWithoutErrors) {
       << root;
   EXPECT_EQ(Count(dom, "<canvas"), static_cast<int>(fixture.runs.size()));
   EXPECT_EQ(Count(dom, "<img class=\"fig\""), figures);
+  EXPECT_NE(dom.find("<section id=\"head-to-head\">"), std::string::npos);
+  EXPECT_EQ(Count(dom, "<table class=\"comparison\">"), 2);
   // The play buttons were labelled by the script (it ran to the end for every replay).
   EXPECT_EQ(Count(dom, "\u25b6 Play</button>"), static_cast<int>(fixture.runs.size()));
 
@@ -117,6 +120,25 @@ TEST(ReportRenderTest, ChromiumDrawsEveryReplayWithoutErrors) {
     const double t = std::atof(played.c_str() + at + 17);  // after `data-played="t = `
     EXPECT_GT(t, 0.5) << "the replay did not advance: " << played.substr(at, 40);
     EXPECT_NE(played.find("data-js-errors=\"0\""), std::string::npos);
+  }
+
+  // Every figure decodes as an image (the head-to-head's charts included).
+  {
+    std::string harness = ReadText(page);
+    harness.replace(harness.rfind("</body>"), 7,
+                    "<script>window.addEventListener('load',function(){var n=0;"
+                    "for(var i=0;i<document.images.length;i++){var im=document.images[i];"
+                    "if(im.complete&&im.naturalWidth>0)n++;}"
+                    "document.documentElement.dataset.decoded=String(n);});</script></body>");
+    const fs::path check = dir / "check.html";
+    testing::WriteText(check.string(), harness);
+    std::string checked;
+    ASSERT_EQ(RunCommand(browser + "--virtual-time-budget=2000 --dump-dom " +
+                             ShellQuote("file://" + check.string()),
+                         &checked),
+              0);
+    EXPECT_NE(checked.find("data-decoded=\"" + std::to_string(figures) + "\""), std::string::npos)
+        << checked.substr(0, 300);
   }
 
   const fs::path png = dir / "page.png";

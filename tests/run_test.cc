@@ -130,6 +130,19 @@ TEST_F(PaperSuiteTest, TheChaptersControlBeatsItsBaselines) {
   EXPECT_EQ(Run("obstacle+pragmatic").sim.outcome, Outcome::kTripped);
 }
 
+TEST_F(PaperSuiteTest, PatternMemoryIsTheWalkersGaitPatternAndNoneForThePragmaticRules) {
+  const std::size_t bytes = LoadGaitLibrary(suite_->scenarios[1].pattern)->pattern.MemoryBytes();
+  EXPECT_GT(bytes, 0u);
+  EXPECT_EQ(Run("flat").metrics.pattern_memory_bytes, bytes);
+  EXPECT_EQ(Run("flat+nearest_gait").metrics.pattern_memory_bytes, bytes);
+  EXPECT_EQ(Run("flat+pragmatic").metrics.pattern_memory_bytes, 0u);
+  // In summary.csv before the family (none: a plain scenario) and the wall-time columns.
+  const std::string row = SummaryRow(suite_->name, Run("flat"));
+  EXPECT_NE(row.find("," + std::to_string(bytes) + ",,0,"), std::string::npos) << row;
+  EXPECT_NE(SummaryHeader().find(",pattern_memory_bytes,family,wall_s,real_time_factor"),
+            std::string::npos);
+}
+
 TEST(RunMetricsTest, EnergyAndCostOfTransport) {
   // 10 s of a pragmatic walk: CoT = positive actuator work / (m g distance), and the work equals
   // the sum over the recorded samples (every period) of max(0, tau qd) dt.

@@ -12,6 +12,7 @@
 #include <filesystem>
 #include <random>
 #include <regex>
+#include <sstream>
 
 #include "rabbit/io/error.h"
 #include "rabbit/model/model.h"
@@ -100,6 +101,72 @@ TEST_F(SuiteReportTest, PageHasSummaryReplaysAndFigures) {
   EXPECT_TRUE(std::regex_search(json, std::regex("[0-9]\\.[0-9]{4}")));
   // The error counter is installed before any other script.
   EXPECT_LT(page.find("addEventListener('error'"), page.find("<style>"));
+}
+
+TEST_F(SuiteReportTest, PageOpensWithTheHeadToHeadAndWritesComparisonCsv) {
+  const std::string dir = CopyFixture("head_to_head");
+  SuiteReportOptions options;
+  options.gnuplot = "/nonexistent/gnuplot";
+  const std::string page = ReadText(WriteSuiteReport(dir, options, nullptr));
+  // The section comes first, one table per group (walk: two variants; obstacle: one).
+  const size_t section = page.find("<section id=\"head-to-head\">");
+  ASSERT_NE(section, std::string::npos);
+  EXPECT_LT(section, page.find("<h2>Summary</h2>"));
+  EXPECT_EQ(Count(page, "<table class=\"comparison\">"), 2);
+  EXPECT_NE(page.find("<div class=\"group\" id=\"group-1\"><h3>obstacle</h3>"), std::string::npos);
+  EXPECT_NE(page.find("Wilson"), std::string::npos);
+  // comparison.csv, with the summary's numbers: walk's baseline failed, the walker passed.
+  const std::string csv = ReadText((fs::path(dir) / "comparison.csv").string());
+  EXPECT_EQ(Count(csv, "\n"), 4);
+  EXPECT_NE(csv.find("\nsuite_fixture,walk,scenario,1,fuzzy_cmac,fuzzy_cmac,main,1,1,1,"),
+            std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find("\nsuite_fixture,walk,scenario,1,pragmatic,pragmatic,baseline,1,0,0,0,"),
+            std::string::npos)
+      << csv;
+  fs::remove_all(dir);
+}
+
+TEST_F(SuiteReportTest, FamilyMembersBeyondTheFirstOnesHaveNoFiguresOrReplays) {
+  if (!OnPath("gnuplot")) GTEST_SKIP() << "gnuplot is not on PATH (Debian: gnuplot-nox)";
+  // walk and obstacle made members of one family.
+  const std::string dir = CopyFixture("family");
+  const std::string summary = (fs::path(dir) / "summary.csv").string();
+  std::string text = ReadText(summary), with_family;
+  std::istringstream lines(text);
+  for (std::string line; std::getline(lines, line);) {
+    with_family += line + (with_family.empty() ? ",family\n" : ",fam\n");
+  }
+  WriteText(summary, with_family);
+  // A run folder of a member not shown is not even read.
+  fs::remove(fs::path(dir) / "obstacle" / "steps.csv");
+  SuiteReportOptions options;
+  options.family_details = 1;
+  std::vector<std::string> warnings;
+  std::string page = ReadText(WriteSuiteReport(dir, options, &warnings));
+  EXPECT_TRUE(warnings.empty()) << warnings.front();
+  EXPECT_EQ(Count(page, "<canvas"), 2);  // walk and walk+pragmatic
+  // walk's 4 figures and the family's head-to-head chart (no overview of a single group).
+  EXPECT_EQ(Count(page, "<img class=\"fig\""), 5);
+  EXPECT_EQ(Count(page, "alt=\"head-to-head of fam\""), 1);
+  EXPECT_NE(page.find("family <em>fam</em> shows the first 1 of its 2 members in detail"),
+            std::string::npos);
+  EXPECT_NE(page.find("Family of 2 members."), std::string::npos);
+  const std::string csv = ReadText((fs::path(dir) / "comparison.csv").string());
+  EXPECT_NE(csv.find("\nsuite_fixture,fam,family,2,fuzzy_cmac,fuzzy_cmac,main,2,2,1,"),
+            std::string::npos)
+      << csv;
+  EXPECT_NE(csv.find("\nsuite_fixture,fam,family,2,pragmatic,pragmatic,baseline,1,0,0,"),
+            std::string::npos)
+      << csv;
+  // Every member (the missing file is now an error, as for any run shown).
+  options.family_details = -1;
+  EXPECT_THROW(WriteSuiteReport(dir, options, nullptr), InputError);
+  fs::copy(fs::path(fixture_->dir) / "obstacle" / "steps.csv", fs::path(dir) / "obstacle");
+  page = ReadText(WriteSuiteReport(dir, options, nullptr));
+  EXPECT_EQ(Count(page, "<canvas"), 3);
+  EXPECT_EQ(Count(page, "<img class=\"fig\""), 4 + 5 + 1);
+  fs::remove_all(dir);
 }
 
 TEST_F(SuiteReportTest, WithoutGnuplotWarnsAndKeepsTablesAndReplays) {

@@ -181,6 +181,12 @@ value = 0.6
   }
   EXPECT_EQ(positions.size(), 6u);
   EXPECT_NE(a.scenarios[0].seed, a.scenarios[1].seed);
+  // Each member knows its family (the report's head-to-head groups by it); a plain scenario has
+  // none.
+  for (const Scenario& s : a.scenarios) EXPECT_EQ(s.family, "obst");
+  const Suite paper = LoadSuite(kRoot + "/scenarios/paper.toml");
+  EXPECT_EQ(paper.scenarios.front().family, "");
+  EXPECT_EQ(paper.scenarios.back().family, "obstacle_anywhere");
 }
 
 // Issue 7's draws: an element of an array of arrays (velocity points), a magnitude with a random
@@ -309,6 +315,8 @@ TEST_F(SuiteTest, ReviewFindings) {
               "taken by the report");
   ExpectError(Walker("[[scenario]]\nname = \"shards\"\n"), 13, "scenario[1].name",
               "taken by the report");  // where a sharded run's parts wait for their merge
+  ExpectError(Walker("[[scenario]]\nname = \"comparison.csv\"\n"), 13, "scenario[1].name",
+              "taken by the report");
   // A constant profile with both a value and points.
   ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.velocity]\nvalue = 0.5\n"
                      "points = [[0, 0.6]]\n"),

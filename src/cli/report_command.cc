@@ -1,6 +1,7 @@
-// rabbit report DIR [--gnuplot PATH]: rebuilds DIR/index.html from the CSV files a batch run wrote
-// (summary.csv and each run's folder), or a tuning job (rabbit tune), without re-running anything. When DIR holds the shards of
-// a sharded run (DIR/shards/I-of-N), first merges them into DIR (rabbit/report/shards.h).
+// rabbit report DIR [--gnuplot PATH]: rebuilds DIR/comparison.csv and DIR/index.html from the CSV
+// files a batch run wrote (summary.csv and each run's folder), or a tuning job's page (rabbit
+// tune), without re-running anything. When DIR holds the shards of a sharded run
+// (DIR/shards/I-of-N), first merges them into DIR (rabbit/report/shards.h).
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -102,6 +103,9 @@ Command RegisterReport(CLI::App* app) {
                   "Seconds of walking per stick diagram (default 3)");
   cmd->add_option("--stick-every", args->options.stick_every,
                   "Seconds between the figures of a stick diagram (default 0.1)");
+  cmd->add_option("--family-details", args->options.family_details,
+                  "Figures, steps and replays for the first N members of each family only "
+                  "(default 3; -1: every member)");
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but warnings and errors");
   return {cmd, [args] { return RunReport(*args); }};
 }

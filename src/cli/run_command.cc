@@ -31,6 +31,7 @@
 #include "cli/commands.h"
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/error.h"
+#include "rabbit/report/comparison.h"
 #include "rabbit/report/rank_batch.h"
 #include "rabbit/report/run_files.h"
 #include "rabbit/report/shards.h"
@@ -229,10 +230,12 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& plan,
         for (const RunBrief& r : batch.runs) out << r.summary_row << "\n";
       });
       std::vector<std::string> warnings;
-      if (args.html) {
+      if (args.html) {  // the page, and comparison.csv with it
         SuiteReportOptions report = args.report;
         report.source_label = target.report.string();
         WriteSuiteReport(staging.string(), report, &warnings);
+      } else {
+        WriteComparison(staging.string());
       }
       for (const std::string& w : warnings) std::cerr << "rabbit run: warning: " << w << "\n";
     }
@@ -527,8 +530,12 @@ Command RegisterRun(CLI::App* app) {
                 "Continue a run that was killed: keep the runs it finished (in DIR.partial) and "
                 "run only the rest, for the same suites, --out, --params and --filter");
   cmd->add_option("--gnuplot", args->report.gnuplot, "gnuplot executable for the figures");
+  cmd->add_option("--family-details", args->report.family_details,
+                  "Figures, steps and replays for the first N members of each family only "
+                  "(default 3; -1: every member)");
   cmd->add_flag(
-      "--no-html", [args](std::int64_t) { args->html = false; }, "Write the CSV files only");
+      "--no-html", [args](std::int64_t) { args->html = false; },
+      "Write the CSV files only (summary.csv, comparison.csv, the runs')");
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but errors and warnings");
   return {cmd, [args] { return RunRun(*args); }};
 }

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cerrno>
+#include <cmath>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
@@ -98,6 +99,7 @@ void PackBrief(const RunBrief& brief, Packer* out) {
   RunMetrics metrics = brief.metrics;
   for (double* v : MetricFields(&metrics)) out->F64(*v);
   out->U64(static_cast<std::uint64_t>(static_cast<std::int64_t>(metrics.steps)));
+  out->U64(metrics.pattern_memory_bytes);
   out->F64(brief.simulated);
 }
 
@@ -112,6 +114,7 @@ RunBrief UnpackBrief(Unpacker* in) {
   for (std::uint64_t k = 0; k < failures; ++k) brief.failures.push_back(in->Str());
   for (double* v : MetricFields(&brief.metrics)) *v = in->F64();
   brief.metrics.steps = static_cast<int>(static_cast<std::int64_t>(in->U64()));
+  brief.metrics.pattern_memory_bytes = static_cast<std::size_t>(in->U64());
   brief.simulated = in->F64();
   return brief;
 }
@@ -323,6 +326,11 @@ RunBrief ReadRunMarker(const std::string& path) {
   m.saturation = number("saturation_s");
   m.energy = number("energy_j");
   m.cost_of_transport = number("cost_of_transport");
+  const double memory = table.Number(0, table.Column("pattern_memory_bytes"));
+  if (!(memory >= 0.0) || memory != std::floor(memory)) {
+    throw InputError(path, 2, "pattern_memory_bytes", "expected a count of bytes");
+  }
+  m.pattern_memory_bytes = static_cast<std::size_t>(memory);
   brief.simulated = m.duration;
   return brief;
 }

@@ -4,6 +4,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <regex>
 #include <sstream>
 #include <utility>
 
@@ -60,6 +61,12 @@ std::vector<SummaryRow> ReadSummary(const std::string& path) {
                                   "real_time_factor"};
   std::vector<size_t> numbers;
   for (const char* name : kNumbers) numbers.push_back(table.Column(name));
+  // Columns added later: optional, so that older reports still rebuild.
+  const bool has_family = table.HasColumn("family");
+  const size_t c_family = has_family ? table.Column("family") : 0;
+  const bool has_memory = table.HasColumn("pattern_memory_bytes");
+  const size_t c_memory = has_memory ? table.Column("pattern_memory_bytes") : 0;
+  static const std::regex kMemberName("(.+)-[0-9]{3,}");
   std::vector<SummaryRow> rows;
   for (size_t r = 0; r < table.num_rows(); ++r) {
     SummaryRow row;
@@ -109,6 +116,19 @@ std::vector<SummaryRow> ReadSummary(const std::string& path) {
     for (size_t k = 0; k < numbers.size(); ++k) {
       *fields[k] = table.Number(r, numbers[k], CsvNumber::kAny);
     }
+    if (has_memory) {
+      row.pattern_memory_bytes = table.Number(r, c_memory, CsvNumber::kFiniteOrNan);
+      if (row.pattern_memory_bytes < 0.0) {
+        throw InputError(path, row.line, "pattern_memory_bytes", "must not be negative");
+      }
+    }
+    std::smatch member;
+    const std::string family = has_family ? table.Text(r, c_family)
+                               : std::regex_match(row.scenario, member, kMemberName)
+                                   ? member[1].str()
+                                   : "";
+    row.is_family_member = !family.empty();
+    row.group = row.is_family_member ? family : row.scenario;
     rows.push_back(row);
   }
   return rows;

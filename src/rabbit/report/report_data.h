@@ -26,12 +26,18 @@ constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
 struct SummaryRow {
   int line = 0;
   std::string suite, scenario, variant, run, controller, outcome, reason;
+  // The head-to-head group: the scenario's family (the `family` column), or the scenario itself
+  // when it is a plain one. Summaries without the column (written before it) take the family from
+  // a member's name, <family>-<3 or more digits>.
+  std::string group;
+  bool is_family_member = false;
   bool passed = false;
   std::vector<std::string> failed;
   double duration = kNan, distance = kNan, steps = kNan, mean_speed_error = kNan,
          final_speed_error = kNan, l_mean = kNan, l_min = kNan, l_max = kNan, l_spread = kNan,
          saturation = kNan, energy = kNan, cost_of_transport = kNan, wall = kNan,
          real_time_factor = kNan;
+  double pattern_memory_bytes = kNan;  // nan: a summary without the column
 };
 
 struct Trajectory {

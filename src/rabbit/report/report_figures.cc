@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
+#include <cstdlib>
 #include <iterator>
 #include <limits>
 
@@ -360,6 +361,135 @@ size_t WeightsFigure(const RunData& run, const SuiteReportOptions& options, Figu
     s << (j + 1 == n ? "" : ", \\\n  ") << data << " using 1:" << j + 2 << " with boxes lc rgb '"
       << kWeightColors[j % std::size(kWeightColors)] << "' title "
       << GnuplotQuote(run.weight_names[j]) << " noenhanced";
+  }
+  s << '\n';
+  return k;
+}
+
+// ---------------------------------------------------------------------------------------------
+// The head-to-head.
+
+namespace {
+
+// A variant's colour as gnuplot's `lc rgb variable` takes it (0xRRGGBB).
+long ColorNumber(const std::string& variant) {
+  return std::strtol(VariantColor(variant).c_str() + 1, nullptr, 16);
+}
+
+// The upper end of a panel's y range: above the largest finite value, 1 when there is none.
+double PanelTop(const std::vector<double>& values) {
+  double top = 0.0;
+  for (double v : values) {
+    if (std::isfinite(v)) top = std::max(top, v);
+  }
+  return top > 0.0 ? 1.18 * top : 1.0;
+}
+
+}  // namespace
+
+size_t GroupComparisonFigure(const std::vector<const VariantComparison*>& variants,
+                             const SuiteReportOptions& options, FigureSet* figures) {
+  const VariantComparison& first = *variants.front();
+  const size_t k = figures->Begin(
+      options.figure_width, 320,
+      "Head-to-head, " + std::string(first.family ? "family " : "scenario ") +
+          HtmlEscape(first.group) +
+          ": success rate (passed / runs) with its 95% Wilson interval; the mean |V<sub>M</sub> "
+          "&minus; V<sub>d</sub>| of a run and the cost of transport, over the completed runs: "
+          "median (bar) and mean (&#9670;).",
+      "head-to-head of " + first.group);
+  std::ostringstream d, tics;
+  std::vector<double> speed, cost;
+  for (size_t v = 0; v < variants.size(); ++v) {
+    const VariantComparison& c = *variants[v];
+    d << v << ' ' << DataNumber(c.success_rate) << ' ' << DataNumber(c.ci.low) << ' '
+      << DataNumber(c.ci.high) << ' ' << ColorNumber(c.variant) << ' '
+      << DataNumber(c.speed_error_median) << ' ' << DataNumber(c.speed_error_mean) << ' '
+      << DataNumber(c.cot_median) << ' ' << DataNumber(c.cot_mean) << '\n';
+    tics << (v == 0 ? "" : ", ") << GnuplotQuote(VariantShortLabel(c.variant)) << ' ' << v;
+    speed.insert(speed.end(), {c.speed_error_median, c.speed_error_mean});
+    cost.insert(cost.end(), {c.cot_median, c.cot_mean});
+  }
+  const std::string data = figures->AddData(d.str());
+  // Room for three bars at least, so that one or two are not drawn as wide as a panel.
+  const double pad = 0.5 * std::max(0.0, 3.0 - static_cast<double>(variants.size()));
+  std::ostringstream& s = figures->script();
+  s << "set multiplot layout 1,3 margins 0.06,0.99," << (variants.size() > 3 ? "0.27" : "0.16")
+    << ",0.88 spacing 0.07,0\n"
+    << "set xrange [" << -0.6 - pad << ':' << static_cast<double>(variants.size()) - 0.4 + pad
+    << "]\n"
+    << "set xtics noenhanced (" << tics.str() << ")"
+    << (variants.size() > 3 ? " rotate by -25" : "") << "\nset grid noxtics ytics\n"
+    << "set style fill solid 0.85 border lc rgb '#555555'\nset boxwidth 0.6 absolute\n"
+    << "unset key\nset yrange [0:1.05]\nset title 'success rate (95% Wilson interval)'\n"
+    << "plot " << data << " using 1:2:5 with boxes lc rgb variable, " << data
+    << " using 1:3:(0):($4-$3) with vectors heads size screen 0.012,90 lw 1.5 lc rgb '#222222'\n";
+  auto panel = [&](const char* title, int median, int mean, double top) {
+    s << "set title " << GnuplotQuote(title) << "\nset yrange [0:" << top << "]\n"
+      << "plot " << data << " using 1:" << median << ":5 with boxes lc rgb variable, " << data
+      << " using 1:" << mean << " with points pt 13 ps 1.3 lc rgb '#222222'\n";
+  };
+  panel("|V_M - V_d| (m/s), completed runs", 6, 7, PanelTop(speed));
+  panel("cost of transport, completed runs", 8, 9, PanelTop(cost));
+  s << "unset multiplot\n";
+  return k;
+}
+
+size_t OverviewComparisonFigure(const std::vector<VariantComparison>& rows,
+                                const SuiteReportOptions& options, FigureSet* figures) {
+  // Groups in order, variants in order of first appearance over the groups.
+  std::vector<std::pair<std::string, bool>> groups;
+  std::vector<std::string> variants;
+  for (const VariantComparison& c : rows) {
+    const std::pair<std::string, bool> g{c.group, c.family};
+    if (std::find(groups.begin(), groups.end(), g) == groups.end()) groups.push_back(g);
+    if (std::find(variants.begin(), variants.end(), c.variant) == variants.end()) {
+      variants.push_back(c.variant);
+    }
+  }
+  const double slot = 0.8 / static_cast<double>(variants.size());
+  std::vector<std::ostringstream> data(variants.size());
+  std::ostringstream tics;
+  size_t longest = 0;
+  for (size_t g = 0; g < groups.size(); ++g) {
+    tics << (g == 0 ? "" : ", ") << GnuplotQuote(groups[g].first) << ' ' << g;
+    longest = std::max(longest, groups[g].first.size());
+  }
+  for (const VariantComparison& c : rows) {
+    const size_t g = static_cast<size_t>(
+        std::find(groups.begin(), groups.end(), std::make_pair(c.group, c.family)) -
+        groups.begin());
+    const size_t v = static_cast<size_t>(std::find(variants.begin(), variants.end(), c.variant) -
+                                         variants.begin());
+    const double x =
+        static_cast<double>(g) +
+        (static_cast<double>(v) - 0.5 * static_cast<double>(variants.size() - 1)) * slot;
+    data[v] << DataNumber(x) << ' ' << DataNumber(c.success_rate) << ' ' << DataNumber(c.ci.low)
+            << ' ' << DataNumber(c.ci.high) << '\n';
+  }
+  const bool rotate = groups.size() * std::max<size_t>(longest, 6) * 7 >
+                      static_cast<size_t>(options.figure_width) * 7 / 10;
+  const size_t k = figures->Begin(
+      options.figure_width, rotate ? 420 : 340,
+      "Success rate of every group and variant (passed / runs; a family's members together), "
+      "with 95% Wilson intervals.",
+      "success rate per group and variant");
+  std::vector<std::string> names;
+  for (std::ostringstream& d : data) names.push_back(figures->AddData(d.str()));
+  std::ostringstream& s = figures->script();
+  s << "set lmargin at screen 0.07\nset rmargin at screen 0.80\n"
+    << (rotate ? "set bmargin 9\n" : "")
+    << "set xrange [-0.6:" << static_cast<double>(groups.size()) - 0.4 << "]\nset yrange [0:1.05]\n"
+    << "set xtics noenhanced (" << tics.str() << ")" << (rotate ? " rotate by -30" : "")
+    << "\nset grid noxtics ytics\nset ylabel 'success rate'\n"
+    << "set style fill solid 0.85 border lc rgb '#555555'\nset boxwidth " << 0.9 * slot
+    << " absolute\nset key outside right top vertical\nplot ";
+  for (size_t v = 0; v < variants.size(); ++v) {
+    s << (v == 0 ? "" : ", \\\n  ") << names[v] << " using 1:2 with boxes lc rgb '"
+      << VariantColor(variants[v]) << "' title " << GnuplotQuote(VariantShortLabel(variants[v]))
+      << " noenhanced, " << names[v]
+      << " using 1:3:(0):($4-$3) with vectors heads size screen 0.006,90 lw 1.3 lc rgb '#222222' "
+         "notitle";
   }
   s << '\n';
   return k;

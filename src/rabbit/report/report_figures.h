@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "rabbit/contact/terrain.h"
+#include "rabbit/report/comparison.h"
 #include "rabbit/report/gnuplot.h"
 #include "rabbit/report/report_data.h"
 #include "rabbit/report/suite_report.h"
@@ -79,6 +80,16 @@ size_t TrackingFigure(const RunData& run, const Window& w, const SuiteReportOpti
 
 // The fuzzy system's per-gait weights w_Ok of every step, stacked (they sum to 1).
 size_t WeightsFigure(const RunData& run, const SuiteReportOptions& options, FigureSet* figures);
+
+// The head-to-head of one group (its comparison rows, the main variant first), three panels with
+// a bar per variant: the success rate with its 95% Wilson interval; the speed error and the cost
+// of transport over completed runs, median (bar) and mean (diamond).
+size_t GroupComparisonFigure(const std::vector<const VariantComparison*>& variants,
+                             const SuiteReportOptions& options, FigureSet* figures);
+
+// Every group's success rate per variant (bars side by side) with the Wilson intervals.
+size_t OverviewComparisonFigure(const std::vector<VariantComparison>& rows,
+                                const SuiteReportOptions& options, FigureSet* figures);
 
 }  // namespace report_internal
 }  // namespace rabbit

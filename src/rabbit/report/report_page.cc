@@ -79,6 +79,9 @@ summary{cursor:pointer;color:#2c3440;font-weight:600}
 .controls input[type=range]{flex:1}
 .controls .time{font-variant-numeric:tabular-nums;min-width:150px;text-align:right;color:var(--muted)}
 code{background:#f3f4f6;padding:0 3px;border-radius:3px}
+.muted{color:var(--muted)}
+table.comparison td.rate{font-variant-numeric:tabular-nums}
+.group{margin:18px 0 8px}
 )css";
 
 const char kErrorCounter[] =
@@ -303,6 +306,69 @@ std::string SummaryTable(const std::vector<RunData>& runs,
         html << "</ul></td></tr>\n";
       }
     }
+  }
+  html << "</tbody></table></div>\n";
+  return html.str();
+}
+
+namespace {
+
+// Bytes for people: "0 B", "912 B", "37.5 KiB", "2.00 MiB"; "-" when unknown.
+std::string MemoryText(double bytes) {
+  if (std::isnan(bytes)) return "&ndash;";
+  char text[64];
+  if (bytes < 1024.0) {
+    std::snprintf(text, sizeof text, "%.0f B", bytes);
+  } else if (bytes < 1024.0 * 1024.0) {
+    std::snprintf(text, sizeof text, "%.1f KiB", bytes / 1024.0);
+  } else {
+    std::snprintf(text, sizeof text, "%.2f MiB", bytes / (1024.0 * 1024.0));
+  }
+  return text;
+}
+
+// "median (mean)" over n runs.
+std::string MedianMean(double median, double mean, int n, int decimals) {
+  if (n == 0) return "&ndash;";
+  return CellNumber(median, decimals) + " <span class=\"muted\">(" + CellNumber(mean, decimals) +
+         ")</span>";
+}
+
+}  // namespace
+
+std::string ComparisonTable(const std::vector<const VariantComparison*>& variants) {
+  std::ostringstream html;
+  html << "<div class=\"table-wrap\"><table class=\"comparison\"><thead><tr>"
+          "<th>variant</th><th>runs</th><th>passed</th><th>success rate<br>(95% Wilson)</th>"
+          "<th>outcomes</th><th>completed runs:<br>|V<sub>M</sub>&minus;V<sub>d</sub>| m/s, "
+          "median (mean)</th><th>completed runs:<br>cost of transport, median (mean)</th>"
+          "<th>gait pattern<br>memory</th></tr></thead><tbody>\n";
+  for (const VariantComparison* c : variants) {
+    std::string outcomes;
+    for (const auto& [count, name] : {std::pair<int, const char*>{c->completed, "completed"},
+                                      {c->fell, "fell"},
+                                      {c->tripped, "tripped"},
+                                      {c->diverged, "diverged"},
+                                      {c->timeout, "timeout"},
+                                      {c->other_outcome, "other"}}) {
+      if (count > 0)
+        outcomes += (outcomes.empty() ? "" : ", ") + std::to_string(count) + " " + name;
+    }
+    char rate[96];
+    std::snprintf(rate, sizeof rate, "%.0f%% <span class=\"muted\">[%.0f, %.0f]</span>",
+                  100.0 * c->success_rate, 100.0 * c->ci.low, 100.0 * c->ci.high);
+    html << "<tr><td class=\"variant" << (c->role == "baseline" ? " baseline" : "")
+         << "\"><span class=\"swatch\" style=\"background:" << VariantColor(c->variant)
+         << "\"></span>" << HtmlEscape(VariantShortLabel(c->variant)) << "</td><td>" << c->runs
+         << "</td><td>" << c->passed << "</td><td class=\"rate\">" << rate
+         << "</td><td class=\"text\">" << outcomes << "</td><td>"
+         << MedianMean(c->speed_error_median, c->speed_error_mean, c->speed_error_runs, 3)
+         << "</td><td>" << MedianMean(c->cot_median, c->cot_mean, c->cot_runs, 3)
+         << "</td><td title=\""
+         << (std::isnan(c->pattern_memory_bytes)
+                 ? std::string("not recorded")
+                 : CellNumber(c->pattern_memory_bytes, 0) + " bytes")
+         << "\">" << MemoryText(c->pattern_memory_bytes) << "</td></tr>\n";
   }
   html << "</tbody></table></div>\n";
   return html.str();

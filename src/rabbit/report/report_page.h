@@ -9,6 +9,7 @@
 #include <vector>
 
 #include "rabbit/contact/terrain.h"
+#include "rabbit/report/comparison.h"
 #include "rabbit/report/report_data.h"
 #include "rabbit/report/suite_report.h"
 
@@ -28,6 +29,9 @@ std::string ReplayHtml(const RunData& run, size_t index, const SuiteReportOption
 // The summary table: one row per run (and one per run with failed criteria), grouped by scenario.
 std::string SummaryTable(const std::vector<RunData>& runs,
                          const std::vector<ScenarioGroup>& groups);
+
+// The head-to-head table of one group: a row per variant (the main one first).
+std::string ComparisonTable(const std::vector<const VariantComparison*>& variants);
 
 // A collapsible table of the run's steps.
 std::string StepsTable(const RunData& run);

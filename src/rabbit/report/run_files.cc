@@ -103,7 +103,7 @@ std::string SummaryHeader() {
   return "suite,scenario,variant,run,controller,outcome,reason,passed,failed_criteria,duration_s,"
          "distance_m,steps,mean_abs_speed_error_m_s,final_abs_speed_error_m_s,l_step_mean_m,"
          "l_step_min_m,l_step_max_m,l_step_spread_m,saturation_s,energy_j,cost_of_transport,"
-         "wall_s,real_time_factor";
+         "pattern_memory_bytes,family,wall_s,real_time_factor";
 }
 
 const std::vector<std::string>& WallTimeColumns() {
@@ -123,7 +123,8 @@ std::string SummaryRow(const std::string& suite, const RunOutput& run) {
       << Number(m.final_abs_speed_error) << ',' << Number(m.l_step_mean) << ','
       << Number(m.l_step_min) << ',' << Number(m.l_step_max) << ',' << Number(m.l_step_spread)
       << ',' << Number(m.saturation) << ',' << Number(m.energy) << ','
-      << Number(m.cost_of_transport) << ',' << Number(run.wall) << ','
+      << Number(m.cost_of_transport) << ',' << m.pattern_memory_bytes << ',' << Cell(run.family)
+      << ',' << Number(run.wall) << ','
       << Number(run.wall > 0.0 ? m.duration / run.wall : std::nan(""));
   return out.str();
 }

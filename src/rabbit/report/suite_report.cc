@@ -6,11 +6,14 @@
 #include <cmath>
 #include <ctime>
 #include <filesystem>
+#include <map>
+#include <set>
 #include <sstream>
 #include <stdexcept>
 #include <utility>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/report/comparison.h"
 #include "rabbit/report/report_data.h"
 #include "rabbit/report/report_figures.h"
 #include "rabbit/report/report_page.h"
@@ -21,13 +24,16 @@ namespace {
 
 namespace fs = std::filesystem;
 
+using report_internal::ComparisonTable;
 using report_internal::FigureSet;
 using report_internal::GroupByScenario;
+using report_internal::GroupComparisonFigure;
 using report_internal::kErrorCounter;
 using report_internal::kReplayScript;
 using report_internal::kStyle;
 using report_internal::LastWindow;
 using report_internal::ObstacleWindow;
+using report_internal::OverviewComparisonFigure;
 using report_internal::ReadRun;
 using report_internal::ReadSummary;
 using report_internal::ReplayHtml;
@@ -131,14 +137,65 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
   const fs::path root(dir);
   const std::string summary_path = (root / "summary.csv").string();
   const std::vector<SummaryRow> rows = ReadSummary(summary_path);
+
+  // The head-to-head, from the summary alone.
+  const std::vector<VariantComparison> comparison = CompareVariants(rows);
+  std::vector<std::vector<const VariantComparison*>> head_to_head;  // per group, its variants
+  std::map<std::string, int> family_size;                           // members per family
+  for (const VariantComparison& c : comparison) {
+    if (c.family) family_size[c.group] = c.members;
+    if (head_to_head.empty() || head_to_head.back().front()->group != c.group ||
+        head_to_head.back().front()->family != c.family) {
+      head_to_head.emplace_back();
+    }
+    head_to_head.back().push_back(&c);
+  }
+
+  // Which scenarios get their figures, steps and replays: all but the family members beyond the
+  // first options.family_details of their family. The others' run files are not read.
+  std::set<std::string> detailed;
+  {
+    std::map<std::string, std::set<std::string>> shown;  // family -> its members shown
+    for (const SummaryRow& r : rows) {
+      if (!r.is_family_member || options.family_details < 0) {
+        detailed.insert(r.scenario);
+        continue;
+      }
+      std::set<std::string>& members = shown[r.group];
+      if (members.count(r.scenario) == 0 &&
+          members.size() < static_cast<size_t>(options.family_details)) {
+        members.insert(r.scenario);
+        detailed.insert(r.scenario);
+      }
+    }
+  }
   std::vector<RunData> runs;
-  for (const SummaryRow& row : rows) runs.push_back(ReadRun(root, row, warnings));
+  for (const SummaryRow& row : rows) {
+    if (detailed.count(row.scenario) != 0) {
+      runs.push_back(ReadRun(root, row, warnings));
+    } else {
+      RunData brief;
+      brief.row = row;
+      runs.push_back(std::move(brief));
+    }
+  }
   const std::vector<ScenarioGroup> groups = GroupByScenario(runs);
 
-  // Figures of every scenario, rendered together.
+  // Figures of the head-to-head and of every scenario shown in detail, rendered together.
   FigureSet figures(options);
+  const bool overview = head_to_head.size() > 1;
+  const size_t overview_figure =
+      overview ? OverviewComparisonFigure(comparison, options, &figures) : 0;
+  std::vector<size_t> group_figures(head_to_head.size(), figures.size());
+  for (size_t g = 0; g < head_to_head.size(); ++g) {
+    // A chart for a family; a plain scenario's one run per variant is its table's row.
+    if (head_to_head[g].front()->family) {
+      group_figures[g] = GroupComparisonFigure(head_to_head[g], options, &figures);
+    }
+  }
   std::vector<std::vector<size_t>> scenario_figures(groups.size());
   for (size_t g = 0; g < groups.size(); ++g) {
+    if (detailed.count(groups[g].name) == 0) continue;
     const RunData& main = runs[groups[g].runs.front()];
     std::vector<size_t>& mine = scenario_figures[g];
     const Trajectory& tr = main.trajectory;
@@ -201,7 +258,31 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
           "nearest reference gait and the Fuzzy-CMAC with its weights rounded to the strongest "
           "rule.</p>\n";
   if (!have_figures) html << "<p class=\"warning\">" << HtmlEscape(figure_error) << "</p>\n";
-  html << "<h2 style=\"border:0;margin-top:20px\">Summary</h2>\n<p class=\"note\">One row per run, "
+  html << "<section id=\"head-to-head\"><h2 style=\"border:0;margin-top:20px\">Head-to-head</h2>\n"
+       << "<p class=\"note\">Per group (a family: all its members together; a plain scenario: "
+          "itself) and variant, from <code>summary.csv</code>, as in <code>comparison.csv</code>. "
+          "Success rate = passed / runs (the run met every criterion of its scenario), with the "
+          "95% Wilson score interval [(p + z&sup2;/2n &minus; z&radic;(p(1&minus;p)/n + "
+          "z&sup2;/4n&sup2;)) / (1 + z&sup2;/n), the same with +], z = 1.96, p = passed / runs, n "
+          "= runs. Speed error (a run's mean |V<sub>M</sub> &minus; V<sub>d</sub>| over its "
+          "measured steps) and cost of transport (energy / (m g distance)): median and (mean) "
+          "over the <em>completed</em> runs only, since a run that fell ends on a step whose "
+          "V<sub>M</sub> means nothing. Gait pattern memory: the bytes of its CMAC weights (none "
+          "for the pragmatic rules).</p>\n";
+  if (overview && have_figures) html << figures.figure(overview_figure).html;
+  for (size_t g = 0; g < head_to_head.size(); ++g) {
+    const VariantComparison& first = *head_to_head[g].front();
+    html << "<div class=\"group\" id=\"group-" << g << "\"><h3>" << HtmlEscape(first.group)
+         << "</h3><p class=\"note\">"
+         << (first.family ? "Family of " + std::to_string(first.members) + " members"
+                          : std::string("Scenario"))
+         << ".</p>\n"
+         << ComparisonTable(head_to_head[g]);
+    if (first.family && have_figures) html << figures.figure(group_figures[g]).html;
+    html << "</div>\n";
+  }
+  html << "</section>\n";
+  html << "<h2>Summary</h2>\n<p class=\"note\">One row per run, "
           "grouped by scenario, baselines in italics below their scenario's main variant; "
           "&ndash; marks a value the run could not measure.</p>\n"
        << SummaryTable(runs, groups);
@@ -210,9 +291,12 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
   for (size_t g = 0; g < groups.size(); ++g) {
     const ScenarioGroup& group = groups[g];
     const RunData& main = runs[group.runs.front()];
+    const bool detail = detailed.count(group.name) != 0;
     html << "<section id=\"scenario-" << g << "\"><h2>" << HtmlEscape(group.name) << "</h2>\n";
     if (!main.description.empty()) html << "<p>" << HtmlEscape(main.description) << "</p>\n";
-    html << "<p class=\"note\">Terrain: " << TerrainText(main.obstacles) << ". Runs: ";
+    html << "<p class=\"note\">";
+    if (detail) html << "Terrain: " << TerrainText(main.obstacles) << ". ";
+    html << "Runs: ";
     for (size_t i = 0; i < group.runs.size(); ++i) {
       const SummaryRow& r = runs[group.runs[i]].row;
       html << (i == 0 ? "" : "; ") << HtmlEscape(RunLabel(r)) << " <code>" << HtmlEscape(r.run)
@@ -220,6 +304,14 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
            << ")";
     }
     html << ".</p>\n";
+    if (!detail) {
+      html << "<p class=\"note\">No figures, steps or replays: family <em>"
+           << HtmlEscape(main.row.group) << "</em> shows the first " << options.family_details
+           << " of its " << family_size[main.row.group]
+           << " members in detail (<code>rabbit report DIR --family-details N</code>; -1: "
+              "all).</p>\n</section>\n";
+      continue;
+    }
     if (have_figures) {
       for (size_t k : scenario_figures[g]) html << figures.figure(k).html;
     }
@@ -230,6 +322,10 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
   }
   html << "</main><script>" << kReplayScript << "</script></body></html>\n";
 
+  // Both files once everything was read: a malformed run file changes neither.
+  const std::string comparison_csv = ComparisonCsv(comparison);
+  WriteFileAtomically((root / "comparison.csv").string(),
+                      [&comparison_csv](std::ostream& out) { out << comparison_csv; });
   const std::string path = (root / "index.html").string();
   const std::string page = html.str();
   WriteFileAtomically(path, [&page](std::ostream& out) { out << page; });

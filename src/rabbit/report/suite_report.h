@@ -9,11 +9,14 @@
 //   DIR/<run>/steps.csv       one row per step: V_d, V_M, L_step, d_obs, fuzzy weights w_Ok, rules
 //   DIR/<run>/tracking.csv    swing hip and knee, reference and actual
 //   DIR/<run>/terrain.csv     the obstacles
-// Output, DIR/index.html: one self-contained page (inline CSS, JS, and figures as data: images):
-// the summary table grouped by scenario (baselines beside the main variant), then per scenario
-// the chapter's figures (stick diagrams at the start and around the first obstacle, V_d / V_M /
-// L_step per step with the baselines overlaid, joint tracking, fuzzy weights per step), drawn by
-// one gnuplot process, and an animated stick-figure replay of every run.
+// Output, DIR/comparison.csv (the head-to-head of the variants per family or plain scenario,
+// rabbit/report/comparison.h) and DIR/index.html: one self-contained page (inline CSS, JS, and
+// figures as data: images): the head-to-head (an overview chart of every group's success rates,
+// then per group a table of its variants and, for a family, a chart), the summary table grouped
+// by scenario (baselines beside the main variant), then per scenario the chapter's figures (stick
+// diagrams at the start and around the first obstacle, V_d / V_M / L_step per step with the
+// baselines overlaid, joint tracking, fuzzy weights per step), drawn by one gnuplot process, and
+// an animated stick-figure replay of every run (for a family, of its first members only).
 #ifndef RABBIT_REPORT_SUITE_REPORT_H_
 #define RABBIT_REPORT_SUITE_REPORT_H_
 
@@ -33,6 +36,10 @@ struct SuiteReportOptions {
   double stick_window = 3.0;        // s of walking shown per stick diagram (chapter's ~2.8 s)
   double tracking_window = 3.0;     // s of joint tracking shown
   int figure_width = 1000;          // px, width of every figure's SVG canvas
+  // Per family, the first `family_details` members (in summary order) get their figures, steps
+  // table and replays; the others a line naming their runs' outcomes (their rows stay in the
+  // summary table and the head-to-head). Negative: every member.
+  int family_details = 3;
   // The folder the page names as its source (empty: the folder it is built in). `rabbit run`
   // builds in a staging folder and names the final one.
   std::string source_label;
@@ -41,12 +48,12 @@ struct SuiteReportOptions {
   bool IsValid(std::string* error) const;
 };
 
-// Reads DIR/summary.csv and every run's files, writes DIR/index.html atomically and returns its
-// path. When gnuplot cannot be run (or fails) appends one warning to *warnings (may be null) and
-// writes the page with the tables and replays but without figures: never a failure for that.
-// Trajectory rows whose coordinates are `nan` (a diverged run) are left out with a warning.
-// Throws InputError (file, line, column or key) for a missing or malformed CSV, and
-// std::invalid_argument for invalid options.
+// Reads DIR/summary.csv and every run's files, writes DIR/comparison.csv and DIR/index.html
+// atomically and returns the page's path. When gnuplot cannot be run (or fails) appends one warning
+// to *warnings (may be null) and writes the page with the tables and replays but without figures:
+// never a failure for that. Trajectory rows whose coordinates are `nan` (a diverged run) are left
+// out with a warning. Throws InputError (file, line, column or key) for a missing or malformed CSV,
+// and std::invalid_argument for invalid options.
 std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& options,
                              std::vector<std::string>* warnings);
 

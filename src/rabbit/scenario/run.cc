@@ -111,6 +111,7 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
   out.variant = variant;
   out.run = RunName(scenario, variant);
   out.controller = variant;
+  out.family = scenario.family;
   const Model model(scenario.model);
   const SimSetup setup = MakeSimSetup(scenario, &model);
   const bool walker = variant == "fuzzy_cmac" || variant == "nearest_gait";
@@ -153,6 +154,8 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     out.sim = Simulate(setup, scenario.q0, scenario.qd0, controller.get());
   }
   out.metrics = ComputeMetrics(scenario, model, out.sim, out.steps);
+  // The gait pattern's memory (its CMACs' weights); the pragmatic rules hold none.
+  if (walker) out.metrics.pattern_memory_bytes = library->pattern.MemoryBytes();
   EvaluateCriteria(scenario, &out);
   out.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

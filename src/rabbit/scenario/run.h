@@ -9,6 +9,7 @@
 #ifndef RABBIT_SCENARIO_RUN_H_
 #define RABBIT_SCENARIO_RUN_H_
 
+#include <cstddef>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -68,10 +69,12 @@ struct RunMetrics {
   double saturation = 0.0;         // s, summed over the joints
   double energy = 0.0;             // J, positive actuator work
   double cost_of_transport = 0.0;  // energy / (m g distance), NaN when the robot did not advance
+  std::size_t pattern_memory_bytes = 0;
 };
 
 struct RunOutput {
   std::string scenario, variant, run, controller;
+  std::string family;  // the scenario's [[family]] (empty: a plain scenario)
   SimResult sim;
   std::vector<StepRow> steps;
   std::vector<WalkerTrack> tracking;

@@ -613,7 +613,8 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name,
     root.Fail("name", "use letters, digits, '.', '_' and '-' only (it names the output folder)");
   }
   // "shards" is where a sharded run's parts wait for their merge (rabbit/report/shards.h).
-  if (s.name == "summary.csv" || s.name == "index.html" || s.name == "shards" || s.name[0] == '.') {
+  if (s.name == "summary.csv" || s.name == "comparison.csv" || s.name == "index.html" ||
+      s.name == "shards" || s.name[0] == '.') {
     root.Fail("name", "\"" + s.name + "\" is taken by the report's own files");
   }
   s.description = root.String("description", "");

@@ -82,6 +82,9 @@ struct Scenario {
   PassCriteria criteria;
   bool required = true;  // false: its failures are reported but do not fail the suite
   std::uint64_t seed = 1;
+  // The suite's [[family]] this scenario is a member of (empty: a plain scenario); the report
+  // compares the variants over a family's members together (rabbit/report/comparison.h).
+  std::string family;
 };
 
 // Reads and validates a scenario file. Throws InputError naming the file, line and key.

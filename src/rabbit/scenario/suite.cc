@@ -243,6 +243,7 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
           TomlReader::FromLayers(owners, layers, path,
                                  f.prefix() + ".scenario (" + name + member + ")", templ.line()),
           "", overlay, record()));
+      suite.scenarios.back().family = name;
     }
   }
   root.Finish();
