@@ -11,6 +11,8 @@
 #include <filesystem>
 #include <fstream>
 
+#include "rabbit/io/error.h"
+
 namespace rabbit {
 namespace {
 
@@ -78,8 +80,8 @@ TEST(WilsonIntervalTest, UndefinedWithoutTrials) {
 }
 
 SummaryRow Row(const std::string& scenario, const std::string& family, const std::string& variant,
-               bool main, const std::string& outcome, bool passed, double speed_error,
-               double cot, double memory) {
+               bool main, const std::string& outcome, bool passed, double speed_error, double cot,
+               double memory) {
   SummaryRow r;
   r.suite = "s";
   r.scenario = scenario;
@@ -169,11 +171,12 @@ TEST(CompareVariantsTest, CountsRatesAndMediansPerGroupAndVariant) {
   // The CSV: the header, then one line per row, numbers to 10 digits, nan spelled out.
   const std::string csv = ComparisonCsv(c);
   EXPECT_EQ(csv.substr(0, csv.find('\n')), ComparisonHeader());
-  EXPECT_NE(csv.find("\ns,f,family,4,fuzzy_cmac,fuzzy_cmac,main,4,2,0.5,0.1500389892,0.8499610108,"),
-            std::string::npos)
+  EXPECT_NE(
+      csv.find("\ns,f,family,4,fuzzy_cmac,fuzzy_cmac,main,4,2,0.5,0.1500389892,0.8499610108,"),
+      std::string::npos)
       << csv;
   EXPECT_NE(csv.find("\ns,f,scenario,1,fuzzy_cmac,fuzzy_cmac,main,1,0,0,0,0.7934506856,0,0,0,0,1,"
-                     "0,0,nan,nan,0,nan,nan,nan\n"),
+                     "0,0,nan,nan,0,nan,nan,nan,nan,nan\n"),
             std::string::npos)
       << csv;
 }
@@ -185,6 +188,42 @@ TEST(CompareVariantsTest, AVariantMainForSomeMembersOnlyIsMixed) {
   ASSERT_EQ(c.size(), 1u);
   EXPECT_EQ(c[0].role, "mixed");
   EXPECT_EQ(c[0].members, 2);
+}
+
+// A suite's success target lands on the main variant's row of its group, with the gap: 3 of 4
+// passed against 0.9 is missed by 0.15; the baselines carry none; targets.csv round-trips.
+TEST(CompareVariantsTest, TargetsGiveTheMainVariantsGap) {
+  const double kTolerance = 1e-12;
+  std::vector<SummaryRow> rows;
+  for (int i = 0; i < 4; ++i) {
+    const std::string name = "g-00" + std::to_string(i);
+    rows.push_back(Row(name, "g", "fuzzy_cmac", true, "completed", i < 3, 0.02, 0.5, 100));
+    rows.push_back(Row(name, "g", "pragmatic", false, "fell", false, 0.1, 0.2, 0));
+  }
+  rows.push_back(Row("h", "", "fuzzy_cmac", true, "completed", true, 0.02, 0.5, 100));
+  const std::vector<VariantComparison> c = CompareVariants(rows, {{"g", 0.9}, {"h", 0.5}});
+  ASSERT_EQ(c.size(), 3u);
+  EXPECT_NEAR(c[0].target, 0.9, kTolerance);
+  EXPECT_NEAR(c[0].target_gap, 0.75 - 0.9, kTolerance);
+  EXPECT_TRUE(std::isnan(c[1].target));  // the baseline
+  EXPECT_TRUE(std::isnan(c[1].target_gap));
+  EXPECT_NEAR(c[2].target_gap, 0.5, kTolerance);  // met, by 0.5
+  const std::string csv = ComparisonCsv(c);
+  EXPECT_NE(csv.find(",target_success_rate,target_gap\n"), std::string::npos);
+  EXPECT_NE(csv.find(",0.9,-0.15"), std::string::npos) << csv;
+
+  const fs::path dir =
+      fs::temp_directory_path() / ("rabbit_targets_test_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  EXPECT_TRUE(ReadTargets(dir.string()).empty());  // no file: no targets
+  std::ofstream(dir / kTargetsFile) << "group,target_success_rate\ng,0.95\npush-x,0.9\n";
+  const SuccessTargets read = ReadTargets(dir.string());
+  ASSERT_EQ(read.size(), 2u);
+  EXPECT_EQ(read[1].first, "push-x");
+  EXPECT_DOUBLE_EQ(read[0].second, 0.95);
+  std::ofstream(dir / kTargetsFile) << "group,target_success_rate\ng,1.5\n";
+  EXPECT_THROW(ReadTargets(dir.string()), InputError);
+  fs::remove_all(dir);
 }
 
 TEST(CompareVariantsTest, OlderSummariesTakeTheFamilyFromTheMembersNames) {
@@ -216,10 +255,9 @@ TEST(CompareVariantsTest, OlderSummariesTakeTheFamilyFromTheMembersNames) {
   ASSERT_EQ(lines.size(), 4u);
   EXPECT_EQ(lines[0], ComparisonHeader());
   EXPECT_EQ(lines[1].rfind("old,flat,scenario,1,", 0), 0u) << lines[1];
-  EXPECT_EQ(lines[2].rfind("old,obst,family,3,fuzzy_cmac,fuzzy_cmac,main,3,2,", 0), 0u)
-      << lines[2];
-  EXPECT_NE(lines[2].find(",0.04,0.04,"), std::string::npos) << lines[2];  // completed runs
-  EXPECT_EQ(lines[2].substr(lines[2].rfind(',')), ",nan");  // memory: not recorded
+  EXPECT_EQ(lines[2].rfind("old,obst,family,3,fuzzy_cmac,fuzzy_cmac,main,3,2,", 0), 0u) << lines[2];
+  EXPECT_NE(lines[2].find(",0.04,0.04,"), std::string::npos) << lines[2];   // completed runs
+  EXPECT_EQ(lines[2].substr(lines[2].rfind(',')), ",nan");                  // memory: not recorded
   EXPECT_EQ(lines[3].rfind("old,step-12,scenario,1,", 0), 0u) << lines[3];  // 2 digits: no member
   fs::remove_all(dir);
 }

@@ -242,6 +242,19 @@ height = 0.2
               "family[1].vary.velocity.points.1.range", "missing required key 'range'");
 }
 
+// [suite.targets]: success rates in (0, 1] for families or scenarios of the suite.
+TEST_F(SuiteTest, TargetsNameGroupsOfTheSuite) {
+  const std::string family = "[[family]]\nname = \"f\"\ncount = 2\n";
+  const Suite suite = LoadSuite(Write(Walker("[suite.targets]\nf = 0.95\n" + family)));
+  ASSERT_EQ(suite.targets.size(), 1u);
+  EXPECT_EQ(suite.targets[0].first, "f");
+  EXPECT_DOUBLE_EQ(suite.targets[0].second, 0.95);
+  EXPECT_EQ(TargetsCsv(suite), "group,target_success_rate\nf,0.95\n");
+  ExpectError(Walker("[suite.targets]\nf = 1.5\n" + family), 13, "suite.targets.f", "(0, 1]");
+  ExpectError(Walker("[suite.targets]\ng = 0.5\n" + family), 13, "suite.targets.g",
+              "no family or scenario");
+}
+
 // scenarios/robustness_train.toml is robustness.toml on other seeds: the same families and
 // templates, only [suite] and each family's seed and count differ.
 TEST_F(SuiteTest, RobustnessTrainingSuiteMatchesTheHeldOutOne) {

@@ -211,6 +211,10 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& plan,
       const bool main_variant = r.run == jobs[k].scenario->name;
       if (!r.passed && main_variant && jobs[k].scenario->required) ++outcome.failed_required;
     }
+    if (!suite.targets.empty()) {
+      WriteFileAtomically((staging / kTargetsFile).string(),
+                          [&suite](std::ostream& out) { out << TargetsCsv(suite); });
+    }
     if (args.sharded) {
       const ShardInfo info{suite.name,  args.shard,  target.plan,
                            plan.size(), jobs.size(), outcome.failed_required};

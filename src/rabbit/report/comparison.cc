@@ -4,9 +4,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <fstream>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/error.h"
 
 namespace rabbit {
 namespace {
@@ -72,7 +75,34 @@ ProportionInterval WilsonInterval(int successes, int trials, double z) {
   return ci;
 }
 
-std::vector<VariantComparison> CompareVariants(const std::vector<SummaryRow>& rows) {
+SuccessTargets ReadTargets(const std::string& dir) {
+  const std::string path = (std::filesystem::path(dir) / kTargetsFile).string();
+  SuccessTargets targets;
+  if (!std::filesystem::exists(path)) return targets;
+  std::ifstream in(path);
+  std::string line;
+  int number = 1;
+  if (!std::getline(in, line) || line != "group,target_success_rate") {
+    throw InputError(path, 1, "", "expected the header group,target_success_rate");
+  }
+  while (std::getline(in, line)) {
+    ++number;
+    if (line.empty()) continue;
+    const size_t comma = line.rfind(',');
+    char* end = nullptr;
+    const double rate =
+        comma == std::string::npos ? kNan : std::strtod(line.c_str() + comma + 1, &end);
+    if (comma == std::string::npos || comma == 0 || end == nullptr || *end != '\0' ||
+        !(rate > 0.0 && rate <= 1.0)) {
+      throw InputError(path, number, "", "expected group,rate with a rate in (0, 1]");
+    }
+    targets.emplace_back(line.substr(0, comma), rate);
+  }
+  return targets;
+}
+
+std::vector<VariantComparison> CompareVariants(const std::vector<SummaryRow>& rows,
+                                               const SuccessTargets& targets) {
   // Groups in order of first appearance; a family and a plain scenario of the same name apart.
   struct Group {
     std::string name;
@@ -153,6 +183,14 @@ std::vector<VariantComparison> CompareVariants(const std::vector<SummaryRow>& ro
       c.cot_mean = Mean(v.costs);
       c.cot_median = Median(v.costs);
       c.pattern_memory_bytes = v.memory_known ? v.memory : kNan;
+      if (c.role == "main") {
+        for (const auto& [group, rate] : targets) {
+          if (group == c.group) {
+            c.target = rate;
+            c.target_gap = c.success_rate - rate;
+          }
+        }
+      }
       out.push_back(std::move(c));
     }
   }
@@ -163,7 +201,7 @@ std::string ComparisonHeader() {
   return "suite,group,group_kind,members,variant,controller,role,runs,passed,success_rate,ci_low,"
          "ci_high,completed,fell,tripped,diverged,timeout,other_outcome,speed_error_runs,"
          "speed_error_mean_m_s,speed_error_median_m_s,cot_runs,cot_mean,cot_median,"
-         "pattern_memory_bytes";
+         "pattern_memory_bytes,target_success_rate,target_gap";
 }
 
 std::string ComparisonCsv(const std::vector<VariantComparison>& rows) {
@@ -179,15 +217,15 @@ std::string ComparisonCsv(const std::vector<VariantComparison>& rows) {
            std::to_string(c.speed_error_runs) + ',' + Number(c.speed_error_mean) + ',' +
            Number(c.speed_error_median) + ',' + std::to_string(c.cot_runs) + ',' +
            Number(c.cot_mean) + ',' + Number(c.cot_median) + ',' + Number(c.pattern_memory_bytes) +
-           '\n';
+           ',' + Number(c.target) + ',' + Number(c.target_gap) + '\n';
   }
   return out;
 }
 
 std::string WriteComparison(const std::string& dir) {
   const std::filesystem::path root(dir);
-  const std::string csv =
-      ComparisonCsv(CompareVariants(report_internal::ReadSummary((root / "summary.csv").string())));
+  const std::string csv = ComparisonCsv(CompareVariants(
+      report_internal::ReadSummary((root / "summary.csv").string()), ReadTargets(dir)));
   const std::string path = (root / "comparison.csv").string();
   WriteFileAtomically(path, [&csv](std::ostream& out) { out << csv; });
   return path;

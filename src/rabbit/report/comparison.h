@@ -23,12 +23,16 @@
 //   pattern_memory_bytes          the gait pattern's memory (its CMAC weights; 0 for the
 //                                 pragmatic rules): the largest over the runs (one gait pattern
 //                                 gives one value); nan when summary.csv has no such column
+//   target_success_rate           the suite's target for the group ([suite.targets], from
+//                                 DIR/targets.csv), on the main variant's row only (else nan)
+//   target_gap                    success_rate - target: >= 0 met, < 0 missed by that much
 // Numbers as summary.csv writes them (10 significant digits, `nan` for none).
 #ifndef RABBIT_REPORT_COMPARISON_H_
 #define RABBIT_REPORT_COMPARISON_H_
 
 #include <limits>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rabbit/report/report_data.h"
@@ -70,11 +74,21 @@ struct VariantComparison {
   double cot_mean = std::numeric_limits<double>::quiet_NaN();
   double cot_median = std::numeric_limits<double>::quiet_NaN();
   double pattern_memory_bytes = std::numeric_limits<double>::quiet_NaN();
+  double target = std::numeric_limits<double>::quiet_NaN();  // main variant's target, or nan
+  double target_gap = std::numeric_limits<double>::quiet_NaN();
 };
 
+// A report folder's success targets: DIR/targets.csv, `group,target_success_rate`, one row per
+// group (written by rabbit run from the suite's [suite.targets]).
+constexpr const char* kTargetsFile = "targets.csv";
+using SuccessTargets = std::vector<std::pair<std::string, double>>;
+// Reads DIR/targets.csv; none (empty) when the file does not exist. Throws InputError for a
+// malformed one.
+SuccessTargets ReadTargets(const std::string& dir);
+
 // The rows of comparison.csv for summary rows (any order; grouped as described above).
-std::vector<VariantComparison> CompareVariants(
-    const std::vector<report_internal::SummaryRow>& rows);
+std::vector<VariantComparison> CompareVariants(const std::vector<report_internal::SummaryRow>& rows,
+                                               const SuccessTargets& targets = {});
 
 // comparison.csv's header line and its text (header and rows, each line ending in "\n").
 std::string ComparisonHeader();

@@ -371,6 +371,22 @@ std::string ComparisonTable(const std::vector<const VariantComparison*>& variant
          << "\">" << MemoryText(c->pattern_memory_bytes) << "</td></tr>\n";
   }
   html << "</tbody></table></div>\n";
+  for (const VariantComparison* c : variants) {
+    if (std::isnan(c->target)) continue;
+    char line[256];
+    if (c->target_gap >= 0.0) {
+      std::snprintf(line, sizeof line, "Target: %s at least %.0f%%: <b>met</b> (%.0f%%).",
+                    VariantShortLabel(c->variant).c_str(), 100.0 * c->target,
+                    100.0 * c->success_rate);
+    } else {
+      std::snprintf(line, sizeof line,
+                    "Target: %s at least %.0f%%: <b>missed by %.1f points</b> (%.0f%%, 95%% "
+                    "interval up to %.0f%%).",
+                    VariantShortLabel(c->variant).c_str(), 100.0 * c->target,
+                    -100.0 * c->target_gap, 100.0 * c->success_rate, 100.0 * c->ci.high);
+    }
+    html << "<p class=\"target\">" << line << "</p>\n";
+  }
   return html.str();
 }
 

@@ -16,6 +16,7 @@
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
+#include "rabbit/report/comparison.h"
 #include "rabbit/report/run_files.h"
 
 namespace rabbit {
@@ -371,6 +372,10 @@ MergedShards MergeShards(const std::string& dir_text,
       out << SummaryHeader() << "\n";
       for (const std::string* row : rows) out << *row << "\n";
     });
+    // The suite's success targets, the same in every shard.
+    if (fs::exists(found.front().folder / kTargetsFile)) {
+      fs::copy_file(found.front().folder / kTargetsFile, staging / kTargetsFile);
+    }
     for (const FoundShard& f : found) {
       for (const std::string& run : f.runs) {
         fs::rename(f.folder / run, staging / run);

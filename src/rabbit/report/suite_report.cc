@@ -139,7 +139,7 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
   const std::vector<SummaryRow> rows = ReadSummary(summary_path);
 
   // The head-to-head, from the summary alone.
-  const std::vector<VariantComparison> comparison = CompareVariants(rows);
+  const std::vector<VariantComparison> comparison = CompareVariants(rows, ReadTargets(dir));
   std::vector<std::vector<const VariantComparison*>> head_to_head;  // per group, its variants
   std::map<std::string, int> family_size;                           // members per family
   for (const VariantComparison& c : comparison) {

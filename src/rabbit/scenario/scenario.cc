@@ -363,8 +363,9 @@ PassCriteria ReadCriteria(TomlReader t) {
 // The FLL file's fuzzy system, parsed once per file (and again when the file changes).
 std::shared_ptr<const TsFis> CachedFll(const std::string& path) {
   static std::mutex mutex;
-  static std::map<std::string, std::pair<std::filesystem::file_time_type,
-                                         std::shared_ptr<const TsFis>>> cache;
+  static std::map<std::string,
+                  std::pair<std::filesystem::file_time_type, std::shared_ptr<const TsFis>>>
+      cache;
   std::error_code error;
   const auto time = std::filesystem::last_write_time(path, error);
   std::lock_guard<std::mutex> lock(mutex);
@@ -586,8 +587,8 @@ Scenario LoadScenario(const std::string& path, const ParamOverlay* overlay) {
                       overlay);
 }
 
-Scenario ReadScenario(TomlReader root, const std::string& default_name,
-                      const ParamOverlay* overlay, std::map<std::string, double>* settings) {
+Scenario ReadScenario(TomlReader root, const std::string& default_name, const ParamOverlay* overlay,
+                      std::map<std::string, double>* settings) {
   if (settings != nullptr) {
     auto observed = std::make_shared<std::map<std::string, double>>();
     Scenario s = ReadScenario(root.WithObserver(observed), default_name, overlay, nullptr);
@@ -613,8 +614,8 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name,
     root.Fail("name", "use letters, digits, '.', '_' and '-' only (it names the output folder)");
   }
   // "shards" is where a sharded run's parts wait for their merge (rabbit/report/shards.h).
-  if (s.name == "summary.csv" || s.name == "comparison.csv" || s.name == "index.html" ||
-      s.name == "shards" || s.name[0] == '.') {
+  if (s.name == "summary.csv" || s.name == "comparison.csv" || s.name == "targets.csv" ||
+      s.name == "index.html" || s.name == "shards" || s.name[0] == '.') {
     root.Fail("name", "\"" + s.name + "\" is taken by the report's own files");
   }
   s.description = root.String("description", "");

@@ -115,6 +115,14 @@ std::string SetOverride(const std::vector<const toml::table*>& layers, const std
 
 }  // namespace
 
+std::string TargetsCsv(const Suite& suite) {
+  std::ostringstream out;
+  out.precision(10);
+  out << "group,target_success_rate\n";
+  for (const auto& [group, rate] : suite.targets) out << group << ',' << rate << '\n';
+  return out.str();
+}
+
 double FamilyDraw(std::uint64_t family_seed, int member, const std::string& key, double low,
                   double high) {
   std::uint64_t name = 0xCBF29CE484222325ULL;  // FNV-1a of the key
@@ -151,6 +159,16 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
   TomlReader header = root.Table("suite");
   suite.name = header.String("name", std::filesystem::path(path).stem().string());
   suite.description = header.String("description", "");
+  TomlReader targets = header.Table("targets");
+  for (const toml::table* layer : targets.layers()) {
+    for (const auto& [key, node] : *layer) {
+      const std::string group(key.str());
+      const double rate = targets.Double(group, 0.0);
+      if (!(rate > 0.0 && rate <= 1.0)) targets.Fail(group, "a success rate in (0, 1]");
+      suite.targets.emplace_back(group, rate);
+    }
+  }
+  targets.Finish();
   header.Finish();
   if (!IsSafeName(suite.name)) {
     header.Fail("name", "use letters, digits, '.', '_' and '-' only (it names the report folder)");
@@ -252,6 +270,11 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
   for (const Scenario& s : suite.scenarios) {
     if (!names.insert(s.name).second) {
       throw InputError(path, 0, s.name, "two scenarios named \"" + s.name + "\"");
+    }
+  }
+  for (const auto& [group, rate] : suite.targets) {
+    if (family_names.count(group) == 0 && names.count(group) == 0) {
+      targets.Fail(group, "names no family or scenario of the suite");
     }
   }
   return suite;

@@ -1,6 +1,7 @@
 // Scenario suites (DESIGN.md section 5): one TOML file holding many scenarios.
 //
 //   [suite]                  name (default: the file's stem), description
+//   [suite.targets]          group = success rate in (0, 1] (a family's or a scenario's name)
 //   [defaults]               any scenario keys, under every scenario and family template
 //   [[scenario]]             a scenario, exactly as in a scenario file (its keys over [defaults])
 //   [[family]]               a randomised family, expanded deterministically into `count` scenarios
@@ -19,6 +20,7 @@
 #include <cstdint>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "rabbit/scenario/scenario.h"
@@ -28,7 +30,15 @@ namespace rabbit {
 struct Suite {
   std::string file, name, description;
   std::vector<Scenario> scenarios;  // file order, families expanded in place
+  // [suite.targets] group = rate: the success rate the main variant should reach on a family (or
+  // a plain scenario), in (0, 1]; reported (comparison.csv, the page) with the gap, never failing
+  // the run. In file order.
+  std::vector<std::pair<std::string, double>> targets;
 };
+
+// The text of a report's targets.csv (group,target_success_rate; see kTargetsFile in
+// rabbit/report/comparison.h), written by `rabbit run` when the suite has targets.
+std::string TargetsCsv(const Suite& suite);
 
 // Whether a TOML file is a suite (has [suite], [[scenario]] or [[family]]) rather than a single
 // scenario. Throws InputError for a missing file or a syntax error.
