@@ -32,8 +32,8 @@ std::string SummaryTable(const std::vector<RunData>& runs,
 // A collapsible table of the run's steps.
 std::string StepsTable(const RunData& run);
 
-// The obstacles in words ("flat ground" when none).
-std::string TerrainText(const std::vector<Obstacle>& obstacles);
+// The ground profile and obstacles in words ("flat ground" when neither).
+std::string TerrainText(const Terrain& terrain);
 
 }  // namespace report_internal
 }  // namespace rabbit

@@ -9,6 +9,7 @@
 //   DIR/<run>/steps.csv       one row per step: V_d, V_M, L_step, d_obs, fuzzy weights w_Ok, rules
 //   DIR/<run>/tracking.csv    swing hip and knee, reference and actual
 //   DIR/<run>/terrain.csv     the obstacles
+//   DIR/<run>/ground.csv      the ground profile's breakpoints (optional: flat ground y = 0)
 // Output, DIR/index.html: one self-contained page (inline CSS, JS, and figures as data: images):
 // the summary table grouped by scenario (baselines beside the main variant), then per scenario
 // the chapter's figures (stick diagrams at the start and around the first obstacle, V_d / V_M /
