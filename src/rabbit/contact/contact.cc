@@ -216,8 +216,20 @@ bool UpdateFootSurface(const Terrain& terrain, const Eigen::Vector2d& pos,
   if (surface != state->surface && surface != kGround && pos.y() < terrain.ObstacleTop(surface)) {
     return false;  // trip
   }
+  // A sticking foot crossing a breakpoint of the ground keeps its spring's stretch: the anchor
+  // moves onto the new segment's line (re-measured there, the foot's depth along the old normal
+  // would turn into a stretch along the new tangent, a jump in the friction force).
+  const bool keep_stretch = state->mode == ContactMode::kStick && surface == kGround &&
+                            state->surface == kGround && segment != state->segment;
+  const double stretch =
+      keep_stretch ? ToSurface(terrain, *state, pos, Eigen::Vector2d::Zero()).stretch : 0.0;
   state->surface = surface;
   state->segment = segment;
+  if (keep_stretch) {
+    const GroundSegment& g = terrain.ground.segment(segment);
+    const double gap = pos.y() - g.HeightAt(pos.x());
+    state->anchor_x = pos.x() - g.cos_slope * (stretch + gap * g.sin_slope);
+  }
   if (state->mode != ContactMode::kAir && FootHeight(terrain, *state, pos) > 0.0) {
     state->mode = ContactMode::kAir;
   }

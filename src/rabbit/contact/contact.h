@@ -115,7 +115,8 @@ void OnFrictionEvent(const ContactParams& params, const Terrain& terrain,
 // Re-evaluates which surface and ground segment the foot is above after a span or segment guard
 // fired. Returns false when the foot entered an obstacle through its side (a trip); otherwise
 // updates them (a foot in contact that leaves an obstacle's top, or crosses onto a ground segment
-// that it is above, goes to the air).
+// that it is above, goes to the air; a sticking foot crossing a breakpoint keeps its spring's
+// stretch, its anchor moved onto the new segment).
 bool UpdateFootSurface(const Terrain& terrain, const Eigen::Vector2d& pos, FootContactState* state);
 
 // Mode of a foot at the start of a run, from rest: contact (stick, anchored where it is) when at or
