@@ -80,18 +80,30 @@ Window LastWindow(const Trajectory& tr, double width) {
   return {std::max(tr.t.front(), tr.t.back() - width), tr.t.back(), "end of the run"};
 }
 
-Window ObstacleWindow(const Trajectory& tr, const Obstacle& o, double width) {
-  const double centre = o.x_start + 0.5 * o.length;
+namespace {
+
+// Centred on the first sample where the hip reaches x (else the last window).
+Window WindowAtX(const Trajectory& tr, double x, double width, const std::string& what) {
   for (size_t j = 0; j < tr.t.size(); ++j) {
-    if (tr.q[j][0] >= centre) {
+    if (tr.q[j][0] >= x) {
       double t0 = tr.t[j] - 0.5 * width;
       t0 = std::max(tr.t.front(), std::min(t0, tr.t.back() - width));
-      return {t0, std::min(t0 + width, tr.t.back()), "around the first obstacle"};
+      return {t0, std::min(t0 + width, tr.t.back()), "around " + what};
     }
   }
   Window w = LastWindow(tr, width);
-  w.what = "end of the run (the hip never reached the first obstacle)";
+  w.what = "end of the run (the hip never reached " + what + ")";
   return w;
+}
+
+}  // namespace
+
+Window ObstacleWindow(const Trajectory& tr, const Obstacle& o, double width) {
+  return WindowAtX(tr, o.x_start + 0.5 * o.length, width, "the first obstacle");
+}
+
+Window SlopeWindow(const Trajectory& tr, double x, double width) {
+  return WindowAtX(tr, x, width, "the first change of slope");
 }
 
 // ---------------------------------------------------------------------------------------------

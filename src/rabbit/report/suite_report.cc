@@ -34,6 +34,7 @@ using report_internal::ReplayHtml;
 using report_internal::RunData;
 using report_internal::RunLabel;
 using report_internal::ScenarioGroup;
+using report_internal::SlopeWindow;
 using report_internal::StartWindow;
 using report_internal::Step;
 using report_internal::StepsFigure;
@@ -149,6 +150,12 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
         mine.push_back(StickDiagramFigure(
             main, ObstacleWindow(tr, main.terrain.obstacles.front(), options.stick_window), options,
             &figures));
+      }
+      const std::vector<SlopeBreak>& breaks = main.terrain.ground.breaks();
+      if (!breaks.empty()) {
+        mine.push_back(
+            StickDiagramFigure(main, SlopeWindow(tr, breaks.front().x_start, options.stick_window),
+                               options, &figures));
       }
     }
     std::vector<const RunData*> with_steps;
