@@ -159,10 +159,10 @@ BENCHMARK(BM_PassiveFall)
 void BM_Standing10sOnProfile(benchmark::State& state) {
   Scenario scenario =
       LoadScenario(std::string(RABBIT_SOURCE_DIR) + "/scenarios/standing_pd_hold.toml");
-  scenario.terrain.ground = GroundProfile({{-50.0, state.range(0) * M_PI / 180.0}});
+  const double a = static_cast<double>(state.range(0)) * M_PI / 180.0;
+  scenario.terrain.ground = GroundProfile({{-50.0, a}});
   if (state.range(0) != 0) {
     // The stance rotated onto the incline (feet on it; the walking frame's pitch).
-    const double a = state.range(0) * M_PI / 180.0;
     Vec7& q = scenario.q0;
     const Vec2 hip =
         q[kX] * Vec2(std::cos(a), -std::sin(a)) + q[kY] * Vec2(std::sin(a), std::cos(a));

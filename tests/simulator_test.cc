@@ -543,7 +543,9 @@ TEST_P(SimulatorTest, StandingOnAProfileInclineBalancesGravityOrSlides) {
   }
   // Released with zero normal force, the feet may slip for an instant; once loaded, never.
   for (const ContactEvent& e : sticks.result.events) {
-    if (e.t > 0.05) EXPECT_NE(e.to, ContactMode::kSlide) << "t = " << e.t;
+    if (e.t > 0.05) {
+      EXPECT_NE(e.to, ContactMode::kSlide) << "t = " << e.t;
+    }
   }
 
   // Rising toward +x this time (negative slope), low friction: it slides down the slope, toward -x.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -126,8 +127,11 @@ Terrain ReadTerrain(TomlReader t, ModelParams* model) {
       b.Fail("slope_deg", "must be below 30 deg in magnitude");
     }
     if (i > 0 && !(brk.x_start > breaks.back().x_start)) {
-      b.Fail("x_start", "breakpoints must be in increasing x_start (the previous one is at " +
-                            std::to_string(breaks.back().x_start) + " m)");
+      char message[120];
+      std::snprintf(message, sizeof message,
+                    "breakpoints must be in increasing x_start (the previous one is at %g m)",
+                    breaks.back().x_start);
+      b.Fail("x_start", message);
     }
     brk.slope = slope_deg * kDeg;
     breaks.push_back(brk);
