@@ -159,6 +159,59 @@ TEST(ReportRenderTest, ChromiumDrawsEveryReplayWithoutErrors) {
   }
 }
 
+// The replay over a ground profile: the fixture's runs with a breakpoint in their first frame and
+// one further on; every replay draws its frames (the first, and a seek to the middle) without a
+// script error.
+TEST(ReportRenderTest, ChromiumDrawsTheGroundProfileWithoutErrors) {
+  const std::string chromium = FindOnPath({"chromium", "chromium-browser"});
+  if (chromium.empty()) {
+    GTEST_SKIP() << "neither chromium nor chromium-browser is on PATH: the page is not rendered";
+  }
+  const fs::path dir =
+      fs::temp_directory_path() / ("rabbit_report_ground_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  const testing::ReportFixture fixture = testing::WriteReportFixture(dir.string(), 6.0);
+  for (const std::string& run : fixture.runs) {
+    testing::WriteText((dir / run / "ground.csv").string(),
+                       "x_start_m,slope_deg,height_m\n0.5,-3,0\n2,2,0.07861\n");
+  }
+  SuiteReportOptions options;
+  options.gnuplot = "/nonexistent/gnuplot";  // the replays are the point here
+  const std::string page = WriteSuiteReport(fixture.dir, options, nullptr);
+  std::string harness = ReadText(page);
+  harness.replace(harness.rfind("</body>"), 7,
+                  "<script>window.addEventListener('load',function(){"
+                  "var r=document.querySelectorAll('.replay input.seek');"
+                  "for(var i=0;i<r.length;i++){r[i].value=String(Math.round(r[i].max/2));"
+                  "r[i].dispatchEvent(new Event('input'));}"
+                  "document.documentElement.dataset.seeked=String(r.length);});</script></body>");
+  const fs::path check = dir / "check.html";
+  testing::WriteText(check.string(), harness);
+  const std::string browser = "timeout 60 " + ShellQuote(chromium) +
+                              " --headless --no-sandbox --disable-gpu --hide-scrollbars "
+                              "--user-data-dir=" +
+                              ShellQuote((dir / "profile").string()) + " ";
+  std::string dom;
+  ASSERT_EQ(RunCommand(browser + "--virtual-time-budget=2000 --dump-dom " +
+                           ShellQuote("file://" + check.string()),
+                       &dom),
+            0)
+      << "chromium failed";
+  const size_t html = dom.find("<html");
+  ASSERT_NE(html, std::string::npos) << dom.substr(0, 500);
+  const std::string root = dom.substr(html, dom.find('>', html) - html);
+  EXPECT_NE(root.find("data-js-errors=\"0\""), std::string::npos) << root;
+  EXPECT_NE(root.find("data-replay=\"ready\""), std::string::npos) << root;
+  EXPECT_NE(root.find("data-seeked=\"" + std::to_string(fixture.runs.size()) + "\""),
+            std::string::npos)
+      << root;
+  if (std::getenv("RABBIT_KEEP_REPORT") == nullptr) {
+    fs::remove_all(dir);
+  } else {
+    std::printf("kept %s\n", dir.c_str());
+  }
+}
+
 TEST(ReportRenderTest, ChromiumRendersTheTuningPageWithoutErrors) {
   const std::string chromium = FindOnPath({"chromium", "chromium-browser"});
   if (chromium.empty()) {

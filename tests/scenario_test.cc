@@ -104,6 +104,98 @@ q21_deg = -10
               1e-12);
 }
 
+// [terrain] slopes: the ground profile, in either TOML form; [initial] foot_clearance measures
+// from the profile under each foot.
+TEST_F(ScenarioFileTest, SlopeProfileIsReadAndPlacesTheFeet) {
+  constexpr double kDeg = M_PI / 180.0;
+  const Scenario s = LoadScenario(Write("ok.toml", R"(
+[simulation]
+duration = 1.0
+[terrain]
+slopes = [
+  { x_start = 2.0, slope_deg = -3.0 },   # up 3 deg
+  { x_start = 6.0, slope_deg = 2.0 },
+  { x_start = 9.0, slope_deg = 0 },
+]
+[[terrain.obstacles]]
+x_start = 10.0
+length = 0.2
+height = 0.05
+[initial]
+x = 4.0
+foot_clearance = 0.01
+q11_deg = 10
+q21_deg = -10
+)"));
+  const std::vector<SlopeBreak>& b = s.terrain.ground.breaks();
+  ASSERT_EQ(b.size(), 3u);
+  EXPECT_EQ(b[0].x_start, 2.0);
+  EXPECT_DOUBLE_EQ(b[0].slope, -3.0 * kDeg);
+  EXPECT_DOUBLE_EQ(b[1].slope, 2.0 * kDeg);
+  EXPECT_EQ(b[2].slope, 0.0);
+  EXPECT_EQ(s.model.slope, 0.0);  // the world frame: gravity vertical
+  EXPECT_NEAR(s.terrain.ObstacleBase(0), 4.0 * std::tan(3 * kDeg) - 3.0 * std::tan(2 * kDeg),
+              1e-12);
+  const Model model(s.model);
+  double lowest = 1e9;
+  for (int leg = 0; leg < kNumLegs; ++leg) {
+    const Vec2 foot = FootPosition(model, s.q0, leg);
+    lowest = std::min(lowest, foot.y() - s.terrain.GroundHeight(foot.x()));
+  }
+  EXPECT_NEAR(lowest, 0.01, 1e-12);
+  EXPECT_GT(s.q0[kY], 0.9);  // lifted with the ground (0.1 m up at x = 4)
+
+  // The [[terrain.slopes]] form is the same; an empty array is flat ground.
+  const Scenario same = LoadScenario(Write("same.toml", std::string(kMinimal) + R"(
+[[terrain.slopes]]
+x_start = 2.0
+slope_deg = -3.0
+)"));
+  ASSERT_EQ(same.terrain.ground.breaks().size(), 1u);
+  EXPECT_EQ(same.terrain.GroundHeight(5.0), s.terrain.GroundHeight(5.0));
+  const Scenario none =
+      LoadScenario(Write("none.toml", std::string(kMinimal) + "[terrain]\nslopes = []\n"));
+  EXPECT_TRUE(none.terrain.ground.is_flat_zero());
+}
+
+TEST_F(ScenarioFileTest, BadSlopeProfilesNameTheirLineAndKey) {
+  const std::string head = std::string(kMinimal) + "[terrain]\nslopes = [\n";  // lines 6, 7
+  ExpectError(
+      head + "  { x_start = 2.0, slope_deg = 1.0 },\n  { x_start = 1.0, slope_deg = 1 },\n]\n", 9,
+      "terrain.slopes[2].x_start", "increasing x_start (the previous one is at 2");
+  ExpectError(
+      head + "  { x_start = 2.0, slope_deg = 1.0 },\n  { x_start = 2.0, slope_deg = 0 },\n]\n", 9,
+      "terrain.slopes[2].x_start", "increasing x_start");
+  ExpectError(head + "  { x_start = 2.0, slope_deg = 30.0 },\n]\n", 8,
+              "terrain.slopes[1].slope_deg", "below 30 deg");
+  ExpectError(head + "  { x_start = 2.0, slope_deg = -45 },\n]\n", 8, "terrain.slopes[1].slope_deg",
+              "below 30 deg");
+  ExpectError(head + "  { x_start = 2.0, slope_deg = nan },\n]\n", 8, "terrain.slopes[1].slope_deg",
+              "finite");
+  ExpectError(head + "  { x_start = inf, slope_deg = 1 },\n]\n", 8, "terrain.slopes[1].x_start",
+              "finite");
+  ExpectError(head + "  { x_start = 2e5, slope_deg = 1 },\n]\n", 8, "terrain.slopes[1].x_start",
+              "1e4");
+  ExpectError(head + "  { x_start = 2.0 },\n]\n", 8, "terrain.slopes[1]",
+              "missing required key 'slope_deg'");
+  ExpectError(head + "  { x_start = 2.0, slope_deg = 1, height = 3 },\n]\n", 8,
+              "terrain.slopes[1].height", "unknown key");
+  ExpectError(head + "  { x_start = 2.0, slope_deg = \"steep\" },\n]\n", 8,
+              "terrain.slopes[1].slope_deg", "expected a number");
+  // The array-of-pairs form is not the key's form.
+  ExpectError(std::string(kMinimal) + "[terrain]\nslopes = [[2.0, 3.0]]\n", 7, "terrain.slopes",
+              "expected an array of tables");
+  // Not with the tilted-gravity uniform slope.
+  ExpectError(std::string(kMinimal) +
+                  "[terrain]\nslope_deg = 5\nslopes = [{ x_start = 2.0, slope_deg = 1 }]\n",
+              8, "terrain.slopes", "does not combine with a uniform slope_deg");
+  // Obstacles stand on flat parts only.
+  ExpectError(std::string(kMinimal) +
+                  "[terrain]\nslopes = [{ x_start = 2.0, slope_deg = 1 }]\n"
+                  "[[terrain.obstacles]]\nx_start = 1.9\nlength = 0.2\nheight = 0.05\n",
+              9, "terrain.obstacles[1].x_start", "stands on sloped ground");
+}
+
 TEST_F(ScenarioFileTest, ModelFileWithOverrides) {
   Write("model.toml", "[model]\ntrunk_mass = 15.0\nshin_length = 0.5\n");
   const Scenario s = LoadScenario(Write("ok.toml", std::string(kMinimal) + R"(

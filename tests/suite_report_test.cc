@@ -290,6 +290,42 @@ TEST_F(SuiteReportTest, AHugeTimeSpanIsReplayedWithBoundedFrames) {
   fs::remove_all(dir);
 }
 
+// A ground profile in the run folders (ground.csv, as `rabbit run` writes it): the terrain line
+// describes it, the replay carries it (breakpoint, height, grade), the stick diagrams gain one
+// around the first change of slope, and a malformed profile names its file.
+TEST_F(SuiteReportTest, GroundProfileIsDescribedReplayedAndDrawn) {
+  const std::string dir = CopyFixture("ground");
+  for (const std::string& run : fixture_->runs) {
+    WriteText((fs::path(dir) / run / "ground.csv").string(),
+              "x_start_m,slope_deg,height_m\n3,-1,0\n7,1,0.06982025971\n");
+  }
+  SuiteReportOptions options;
+  const bool gnuplot = OnPath("gnuplot");
+  if (!gnuplot) options.gnuplot = "/nonexistent/gnuplot";
+  const std::string page = ReadText(WriteSuiteReport(dir, options, nullptr));
+  EXPECT_NE(page.find("ground flat, then up 1.0&deg; from x = 3.00 m, down 1.0&deg; from x = "
+                      "7.00 m"),
+            std::string::npos);
+  // The replay's ground: [x, height, grade] per breakpoint (grade tan 1 deg = 0.017455).
+  EXPECT_EQ(Count(page, "\"g\":[3,0,0.017455,7,0.0698,-0.017455]"),
+            static_cast<int>(fixture_->runs.size()));
+  if (gnuplot) {
+    // The walks reach x = 3 m: one more stick diagram per scenario (two scenarios).
+    EXPECT_EQ(Count(page, "<img class=\"fig\""), fixture_->expected_figures + 2);
+    EXPECT_EQ(Count(page, "around the first change of slope"), 4);  // alt and caption, twice
+  }
+  const std::string ground = (fs::path(dir) / "walk" / "ground.csv").string();
+  WriteText(ground, "x_start_m,slope_deg,height_m\n3,-1,0\n2,1,0\n");
+  try {
+    WriteSuiteReport(dir, options, nullptr);
+    FAIL() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), ground);
+    EXPECT_NE(std::string(e.what()).find("increasing x_start"), std::string::npos) << e.what();
+  }
+  fs::remove_all(dir);
+}
+
 TEST(SuiteReportOptionsTest, Validation) {
   std::string error;
   EXPECT_TRUE(SuiteReportOptions{}.IsValid(&error)) << error;

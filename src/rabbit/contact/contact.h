@@ -1,11 +1,19 @@
 // Compliant point-foot contact with stick/slide friction (chapter eqs. 2-5, DESIGN.md section 1).
 //
-// Each foot is a hybrid system: its mode (air, stick, slide), anchor x_c and surface are discrete
-// state that changes only at events located by the integrator's root finding; between events the
-// force is a smooth function of the foot's position and velocity:
+// Each foot is a hybrid system: its mode (air, stick, slide), anchor x_c, surface (the ground or an
+// obstacle's top) and ground segment are discrete state that changes only at events located by the
+// integrator's root finding; between events the force is a smooth function of the foot's position
+// and velocity. Everything is measured in the frame of the straight surface under the foot (the
+// ground segment under it, or a flat obstacle top): y is the foot's distance from the surface
+// along its unit normal n = (sin a, cos a) (a: the slope, positive descending toward +x), x the
+// coordinate along its unit tangent t = (cos a, -sin a), and the force on the foot is
+// Ft t + Fn n. On flat ground (a = 0) these are the world's x and y:
 //   Fn  = max(0, k_n |y| - lambda_n |y| yd)                  (y <= 0: foot below its surface)
 //   Ft1 = -k_t (x - x_c) - lambda_t xd                        (stick; the chapter prints +k_t)
 //   Ft2 = -s lambda_g Fn - mu_g xd                            (slide in direction s)
+// where x - x_c is the spring's stretch along t from its anchor, the surface point above world
+// abscissa anchor_x: (p - A).t = (x_p - anchor_x) / cos a - (y_p - H(x_p)) sin a for a foot at p
+// over the surface line y = H(x).
 // Events (each guard is positive in the current mode and an event fires when it turns negative):
 //   air   -> contact  when y crosses 0 downward (touchdown; anchor x_c = x);
 //   contact -> air    when y crosses 0 upward (lift-off);
@@ -17,7 +25,10 @@
 //                     resumes without a jump in the spring force, inside the cone by a margin
 //                     (1 - resume_fraction)(mu_s - lambda_g) Fn, which keeps the switch from
 //                     chattering. A foot landing with some tangential speed starts in slide and
-//                     sticks as soon as its normal force can hold it (as the chapter's eq. 3).
+//                     sticks as soon as its normal force can hold it (as the chapter's eq. 3);
+//   the foot crosses an obstacle's edge or a breakpoint of the ground profile (its surface or
+//                     segment changes; a foot in contact that finds itself above its new surface
+//                     goes to the air).
 #ifndef RABBIT_CONTACT_CONTACT_H_
 #define RABBIT_CONTACT_CONTACT_H_
 
@@ -46,17 +57,23 @@ const char* ContactModeName(ContactMode mode);
 
 struct FootContactState {
   ContactMode mode = ContactMode::kAir;
-  double anchor_x = 0.0;   // x_c, the sticking spring's anchor (stick mode)
-  double slide_dir = 0.0;  // +1 or -1, direction of slip (slide mode)
+  // The sticking spring's anchor (stick mode): the world abscissa of the surface point it is
+  // fixed to (on flat ground, x_c itself).
+  double anchor_x = 0.0;
+  double slide_dir = 0.0;  // +1 or -1, direction of slip along the tangent (slide mode)
   int surface = kGround;   // what the foot stands above (terrain surface index)
+  int segment = 0;         // the ground segment under the foot (GroundProfile::SegmentAt)
 };
 
 struct FootForce {
-  double fn = 0.0;  // normal (vertical) force on the foot, N, >= 0
-  double ft = 0.0;  // tangential (horizontal) force on the foot, N
+  double fn = 0.0;  // normal force on the foot along the surface normal n, N, >= 0
+  double ft = 0.0;  // tangential force on the foot along the surface tangent t (toward +x), N
+  // The same force in the world frame, ft t + fn n (on flat ground: fx = ft, fy = fn), N.
+  double fx = 0.0, fy = 0.0;
 };
 
-// Height of the foot above its current surface (negative: penetration).
+// Distance of the foot from its current surface along the surface's normal (negative:
+// penetration); on flat ground its height above it.
 double FootHeight(const Terrain& terrain, const FootContactState& state,
                   const Eigen::Vector2d& pos);
 
@@ -78,26 +95,36 @@ double ResumeGuard(const ContactParams& params, const Terrain& terrain,
 // Guard of obstacle j's span [x_start, x_end]: positive while the foot stays on its side of it.
 double SpanGuard(const Terrain& terrain, const FootContactState& state, const Eigen::Vector2d& pos,
                  int obstacle);
+// Guard of the foot's ground segment: positive while the foot's x stays inside it (needed only
+// when the ground profile has breakpoints: with one segment it would be infinite).
+double SegmentGuard(const Terrain& terrain, const FootContactState& state,
+                    const Eigen::Vector2d& pos);
 
 // Transitions, applied when the integrator reports that a guard turned negative:
 // OnTouchEvent toggles air <-> contact (touchdown anchors the spring at the impact point; a foot
-// that lands moving starts in slide); OnFrictionEvent (SlipGuard or ResumeGuard) toggles
-// stick <-> slide.
+// that lands moving along the surface starts in slide); OnFrictionEvent (SlipGuard or ResumeGuard)
+// toggles stick <-> slide.
+void OnTouchEvent(const Terrain& terrain, const Eigen::Vector2d& pos, const Eigen::Vector2d& vel,
+                  FootContactState* state);
+// The same on flat ground (the slip direction from the horizontal velocity).
 void OnTouchEvent(const Eigen::Vector2d& pos, const Eigen::Vector2d& vel, FootContactState* state);
 void OnFrictionEvent(const ContactParams& params, const Terrain& terrain,
                      const Eigen::Vector2d& pos, const Eigen::Vector2d& vel,
                      FootContactState* state);
 
-// Re-evaluates which surface the foot is above after a span guard fired. Returns false when the
-// foot entered an obstacle through its side (a trip); otherwise updates the surface (a foot in
-// contact that leaves an obstacle's top goes to the air).
+// Re-evaluates which surface and ground segment the foot is above after a span or segment guard
+// fired. Returns false when the foot entered an obstacle through its side (a trip); otherwise
+// updates them (a foot in contact that leaves an obstacle's top, or crosses onto a ground segment
+// that it is above, goes to the air; a sticking foot crossing a breakpoint keeps its spring's
+// stretch, its anchor moved onto the new segment).
 bool UpdateFootSurface(const Terrain& terrain, const Eigen::Vector2d& pos, FootContactState* state);
 
 // Mode of a foot at the start of a run, from rest: contact (stick, anchored where it is) when at or
 // below its surface, else air.
 FootContactState InitialFootState(const Terrain& terrain, const Eigen::Vector2d& pos);
 
-// Energy stored in the contact springs: 0.5 k_n y^2 (y < 0) + 0.5 k_t (x - x_c)^2 (stick).
+// Energy stored in the contact springs: 0.5 k_n y^2 (y < 0) + 0.5 k_t (x - x_c)^2 (stick), in the
+// surface's frame.
 // The contact law is passive (it never adds energy) but for one step: when slip stops, the anchor
 // rule of DESIGN.md (no force jump) loads the tangential spring with 0.5 Ft2^2 / k_t at once.
 double ContactElasticEnergy(const ContactParams& params, const Terrain& terrain,

@@ -222,13 +222,19 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
 }
 
 double FuzzyCmacWalker::LiftHeight(const Terrain& terrain, double foot_x) const {
-  double h = 0.0;
-  for (const Obstacle& o : terrain.obstacles) {
+  double h = -std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < terrain.obstacles.size(); ++i) {
+    const Obstacle& o = terrain.obstacles[i];
     const double lo = o.x_start - p_.lift_lead, hi = o.x_end() + p_.lift_trail;
     double a = 1.0;
     if (foot_x < lo) a = p_.lift_ramp > 0.0 ? 1.0 - (lo - foot_x) / p_.lift_ramp : 0.0;
     if (foot_x > hi) a = p_.lift_release > 0.0 ? 1.0 - (foot_x - hi) / p_.lift_release : 0.0;
-    h = std::max(h, std::clamp(a, 0.0, 1.0) * (o.height + p_.lift_clearance));
+    a = std::clamp(a, 0.0, 1.0);
+    // Above the ground the obstacle stands on (absolute heights: the hip's y is absolute).
+    if (a > 0.0) {
+      h = std::max(h,
+                   terrain.ObstacleBase(static_cast<int>(i)) + a * (o.height + p_.lift_clearance));
+    }
   }
   return h;
 }
@@ -239,7 +245,7 @@ void FuzzyCmacWalker::ApplyLift(const Observation& obs, int sw_hip, Eigen::Vecto
   Eigen::Vector4d& r = *ref;
   const double h = LiftHeight(*obs.terrain, obs.foot_pos[1 - stance_].x());
   Eigen::Vector2d delta = Eigen::Vector2d::Zero();
-  if (h > 0.0) {
+  if (h > -std::numeric_limits<double>::infinity()) {
     // The pattern's foot point relative to the hip (absolute thigh and shin angles).
     const double a_th = r[0] - q[kQ0], a_sh = r[0] + r[1] - q[kQ0];
     const double px = l1 * std::sin(a_th) + l2 * std::sin(a_sh);

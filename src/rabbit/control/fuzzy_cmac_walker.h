@@ -144,7 +144,8 @@ class FuzzyCmacWalker final : public Controller {
   double Gaussian();
   // d_obs seen from x (no terrain: no obstacle), before noise.
   double ObstacleAhead(const Observation& obs, double x) const;
-  // The foot lift's target height at foot abscissa x (0: none needed).
+  // The foot lift's target height (absolute y) at foot abscissa x: the highest over the obstacles
+  // of base + a (height + lift_clearance), a the ramp (0..1); -infinity when none needs a lift.
   double LiftHeight(const Terrain& terrain, double foot_x) const;
   // Adds the foot lift to the swing references ref (hip, knee, rates).
   void ApplyLift(const Observation& obs, int sw_hip, Eigen::Vector4d* ref);

@@ -314,7 +314,10 @@ std::vector<TomlReader> TomlReader::TableArray(const std::string& key) {
   const toml::node* node = Node(key);
   if (node == nullptr) return out;
   const auto* array = node->as_array();
-  if (array == nullptr || !array->is_array_of_tables()) Fail(key, "expected an array of tables");
+  if (array == nullptr || (!array->empty() && !array->is_array_of_tables())) {
+    Fail(key,
+         "expected an array of tables ([[" + key + "]] sections, or " + key + " = [{...}, {...}])");
+  }
   int index = 1;
   for (const toml::node& element : *array) {
     out.push_back(Child({element.as_table()}, PathOf(key) + "[" + std::to_string(index) + "]",

@@ -71,7 +71,7 @@ class TomlReader {
   TomlReader WholeTable(const std::string& key);
   // A sub-table merged over the first `layers` layers only (the lower ones are ignored for it).
   TomlReader TableFromLayers(const std::string& key, size_t layers);
-  // An array of tables ([[key]]); empty when missing.
+  // An array of tables ([[key]] or key = [{...}, ...]); empty when missing or [].
   std::vector<TomlReader> TableArray(const std::string& key);
 
   // Throws for the first key of this table that was never asked for.

@@ -254,6 +254,26 @@ void ReadTracking(const std::string& path, Tracking* tracking) {
   }
 }
 
+// The ground profile: ground.csv (x_start_m, slope_deg; height_m is derived), absent in reports
+// written before it existed: flat ground.
+GroundProfile ReadGround(const std::string& path) {
+  if (!fs::exists(path)) return GroundProfile();
+  const CsvTable table = CsvTable::Read(path);
+  const size_t c_x = table.Column("x_start_m"), c_slope = table.Column("slope_deg");
+  std::vector<SlopeBreak> breaks;
+  for (size_t r = 0; r < table.num_rows(); ++r) {
+    SlopeBreak b;
+    b.x_start = table.Number(r, c_x);
+    b.slope = table.Number(r, c_slope) * M_PI / 180.0;
+    breaks.push_back(b);
+  }
+  if (breaks.empty()) return GroundProfile();
+  GroundProfile ground(std::move(breaks));
+  std::string error;
+  if (!ground.IsValid(&error)) throw InputError(path, 0, "", error);
+  return ground;
+}
+
 void ReadTerrain(const std::string& path, std::vector<Obstacle>* obstacles) {
   const CsvTable table = CsvTable::Read(path);
   const size_t c_x = table.Column("x_start_m"), c_length = table.Column("length_m"),
@@ -287,7 +307,8 @@ RunData ReadRun(const fs::path& dir, const SummaryRow& row, std::vector<std::str
   }
   ReadSteps((folder / "steps.csv").string(), &run);
   ReadTracking((folder / "tracking.csv").string(), &run.tracking);
-  ReadTerrain((folder / "terrain.csv").string(), &run.obstacles);
+  ReadTerrain((folder / "terrain.csv").string(), &run.terrain.obstacles);
+  run.terrain.ground = ReadGround((folder / "ground.csv").string());
   return run;
 }
 

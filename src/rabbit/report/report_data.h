@@ -1,5 +1,5 @@
 // Reading a report folder: the CSV files a batch run wrote (summary.csv and per run meta.csv,
-// trajectory.csv, steps.csv, tracking.csv, terrain.csv) parsed into RunData, grouped by
+// trajectory.csv, steps.csv, tracking.csv, terrain.csv, ground.csv) parsed into RunData, grouped by
 // scenario; plus what the figures and the page share about runs (variant names and colours,
 // sampling the trajectory). Implementation details of WriteSuiteReport (suite_report.h).
 #ifndef RABBIT_REPORT_REPORT_DATA_H_
@@ -68,7 +68,7 @@ struct RunData {
   std::vector<Step> steps;
   std::vector<std::string> weight_names;  // w_O1, ...
   Tracking tracking;
-  std::vector<Obstacle> obstacles;
+  Terrain terrain;  // obstacles (terrain.csv) and ground profile (ground.csv)
 };
 
 // The run a scenario's figures are drawn for (its main variant: the run named after the scenario,

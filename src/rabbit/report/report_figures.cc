@@ -81,18 +81,30 @@ Window LastWindow(const Trajectory& tr, double width) {
   return {std::max(tr.t.front(), tr.t.back() - width), tr.t.back(), "end of the run"};
 }
 
-Window ObstacleWindow(const Trajectory& tr, const Obstacle& o, double width) {
-  const double centre = o.x_start + 0.5 * o.length;
+namespace {
+
+// Centred on the first sample where the hip reaches x (else the last window).
+Window WindowAtX(const Trajectory& tr, double x, double width, const std::string& what) {
   for (size_t j = 0; j < tr.t.size(); ++j) {
-    if (tr.q[j][0] >= centre) {
+    if (tr.q[j][0] >= x) {
       double t0 = tr.t[j] - 0.5 * width;
       t0 = std::max(tr.t.front(), std::min(t0, tr.t.back() - width));
-      return {t0, std::min(t0 + width, tr.t.back()), "around the first obstacle"};
+      return {t0, std::min(t0 + width, tr.t.back()), "around " + what};
     }
   }
   Window w = LastWindow(tr, width);
-  w.what = "end of the run (the hip never reached the first obstacle)";
+  w.what = "end of the run (the hip never reached " + what + ")";
   return w;
+}
+
+}  // namespace
+
+Window ObstacleWindow(const Trajectory& tr, const Obstacle& o, double width) {
+  return WindowAtX(tr, o.x_start + 0.5 * o.length, width, "the first obstacle");
+}
+
+Window SlopeWindow(const Trajectory& tr, double x, double width) {
+  return WindowAtX(tr, x, width, "the first change of slope");
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -172,8 +184,17 @@ size_t StickDiagramFigure(const RunData& run, const Window& w, const SuiteReport
   }
   x_lo -= 0.15;
   x_hi += 0.15;
-  const double y_lo = -0.08;
-  y_hi = std::max(y_hi, 0.5) + 0.08;
+  // The ground in the window: its vertices (the window's ends and the profile's breakpoints).
+  const Terrain& terrain = run.terrain;
+  std::vector<double> ground_x = {x_lo};
+  for (const SlopeBreak& b : terrain.ground.breaks()) {
+    if (b.x_start > x_lo && b.x_start < x_hi) ground_x.push_back(b.x_start);
+  }
+  ground_x.push_back(x_hi);
+  double ground_lo = std::numeric_limits<double>::infinity();
+  for (double x : ground_x) ground_lo = std::min(ground_lo, terrain.GroundHeight(x));
+  const double y_lo = ground_lo - 0.08;
+  y_hi = std::max(y_hi, ground_lo + 0.5) + 0.08;
   // Equal scales on both axes, at most kPixelsPerMetre so that a short window is not blown up.
   const double kPixelsPerMetre = 300.0, kMarginX = 95.0, kMarginY = 80.0;
   const double scale = std::min(kPixelsPerMetre, (options.figure_width - kMarginX) / (x_hi - x_lo));
@@ -195,15 +216,31 @@ size_t StickDiagramFigure(const RunData& run, const Window& w, const SuiteReport
                     d_leg2 = figures->AddData(leg[1].str()), d_path = figures->AddData(path.str());
   s << "set size ratio -1\nset xrange [" << x_lo << ':' << x_hi << "]\nset yrange [" << y_lo << ':'
     << y_hi << "]\nset xlabel 'x (m)'\nset ylabel 'y (m)'\nunset grid\n"
-    << "unset key\n"
-    << "set object 1 rect from " << x_lo << ',' << y_lo << " to " << x_hi
-    << ",0 fc rgb '#efe8dc' fs solid 1.0 noborder behind\n"
-    << "set arrow 1 from " << x_lo << ",0 to " << x_hi << ",0 nohead lw 2 lc rgb '#555555' back\n";
+    << "unset key\n";
+  if (terrain.ground.is_flat_zero()) {
+    s << "set object 1 rect from " << x_lo << ',' << y_lo << " to " << x_hi
+      << ",0 fc rgb '#efe8dc' fs solid 1.0 noborder behind\n"
+      << "set arrow 1 from " << x_lo << ",0 to " << x_hi
+      << ",0 nohead lw 2 lc rgb '#555555' back\n";
+  } else {
+    s << "set object 1 polygon from " << x_lo << ',' << y_lo;
+    for (double x : ground_x) s << " to " << x << ',' << terrain.GroundHeight(x);
+    s << " to " << x_hi << ',' << y_lo << " to " << x_lo << ',' << y_lo
+      << " fc rgb '#efe8dc' fs solid 1.0 noborder behind\n";
+    for (size_t i = 0; i + 1 < ground_x.size(); ++i) {
+      s << "set arrow " << i + 1 << " from " << ground_x[i] << ','
+        << terrain.GroundHeight(ground_x[i]) << " to " << ground_x[i + 1] << ','
+        << terrain.GroundHeight(ground_x[i + 1]) << " nohead lw 2 lc rgb '#555555' back\n";
+    }
+  }
   int object = 2;
-  for (const Obstacle& o : run.obstacles) {
+  for (size_t i = 0; i < terrain.obstacles.size(); ++i) {
+    const Obstacle& o = terrain.obstacles[i];
     if (o.x_end() < x_lo || o.x_start > x_hi) continue;
-    s << "set object " << object++ << " rect from " << o.x_start << ",0 to " << o.x_end() << ','
-      << o.height << " fc rgb '#9a9a9a' fs solid 1.0 border lc rgb '#555555' behind\n";
+    const double base = terrain.ObstacleBase(static_cast<int>(i));
+    s << "set object " << object++ << " rect from " << o.x_start << ',' << base << " to "
+      << o.x_end() << ',' << base + o.height
+      << " fc rgb '#9a9a9a' fs solid 1.0 border lc rgb '#555555' behind\n";
   }
   s << "plot " << d_path << " with lines dt 3 lw 1.2 lc rgb '#888888' title 'hip path', \\\n  "
     << d_leg2 << " with lines lw 1.6 lc rgb '" << kLegColors[1] << "' title 'leg 2', \\\n  "

@@ -33,6 +33,8 @@ struct Window {
 Window StartWindow(const Trajectory& tr, double width);
 Window LastWindow(const Trajectory& tr, double width);
 Window ObstacleWindow(const Trajectory& tr, const Obstacle& o, double width);
+// Centred where the hip reaches x (the ground profile's first breakpoint), else the last window.
+Window SlopeWindow(const Trajectory& tr, double x, double width);
 
 // ---------------------------------------------------------------------------------------------
 // Figures: gnuplot scripts, all rendered by one process.

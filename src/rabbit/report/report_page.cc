@@ -93,7 +93,9 @@ const char kErrorCounter[] =
 
 // The replays: each .replay element holds a canvas, controls and its frames as JSON
 // {fps, t: [...], p: [12 numbers per frame: hip, trunk top, knee 1, foot 1, knee 2, foot 2],
-//  c: [contact bits per frame], obs: [[x_start, length, height], ...]}.
+//  c: [contact bits per frame], obs: [[x_start, length, height, base], ...],
+//  g: the ground profile [x_k, height_k, grade_k (dy/dx from x_k on), ...], flat before x_0
+//  (empty: flat y = 0)}.
 const char kReplayScript[] = R"js(
 (function(){
   var root=document.documentElement;
@@ -108,26 +110,37 @@ const char kReplayScript[] = R"js(
     canvas.width=Math.round(W*ratio); canvas.height=Math.round(H*ratio);
     slider.max=String(Math.max(0,n-1));
     var yLo=-0.14, yHi=1.76, s=H/(yHi-yLo);
+    // Ground height at x (the profile d.g; flat before its first point).
+    function G(x){var g=d.g||[]; if(!g.length||x<g[0]) return g.length?g[1]:0; var h=g[1];
+      for(var i=0;i<g.length&&x>=g[i];i+=3) h=g[i+1]+g[i+2]*(x-g[i]); return h;}
     function draw(){
       ctx.setTransform(ratio,0,0,ratio,0,0);
       ctx.fillStyle='#ffffff'; ctx.fillRect(0,0,W,H);
       if(n===0){ctx.fillStyle='#555';ctx.font='15px sans-serif';ctx.fillText('no trajectory recorded',20,30);return;}
       var p=d.p, o=12*frame, hx=p[o];
-      var left=hx-0.42*W/s;
-      function X(x){return (x-left)*s;} function Y(y){return (yHi-y)*s;}
-      ctx.fillStyle='#efe8dc'; ctx.fillRect(0,Y(0),W,H-Y(0));
-      ctx.strokeStyle='#555'; ctx.lineWidth=2; ctx.beginPath(); ctx.moveTo(0,Y(0)); ctx.lineTo(W,Y(0)); ctx.stroke();
+      var left=hx-0.42*W/s, right=left+W/s, base=G(hx);
+      // The camera follows the hip along x and the ground under it in y.
+      function X(x){return (x-left)*s;} function Y(y){return (yHi+base-y)*s;}
+      var ground=[left], g=d.g||[];
+      for(var i=0;i<g.length;i+=3){if(g[i]>left&&g[i]<right) ground.push(g[i]);}
+      ground.push(right);
+      ctx.fillStyle='#efe8dc'; ctx.beginPath(); ctx.moveTo(0,H);
+      for(var i=0;i<ground.length;i++) ctx.lineTo(X(ground[i]),Y(G(ground[i])));
+      ctx.lineTo(W,H); ctx.closePath(); ctx.fill();
+      ctx.strokeStyle='#555'; ctx.lineWidth=2; ctx.beginPath();
+      for(var i=0;i<ground.length;i++){var gx=X(ground[i]),gy=Y(G(ground[i])); if(i) ctx.lineTo(gx,gy); else ctx.moveTo(gx,gy);}
+      ctx.stroke();
       ctx.lineWidth=1; ctx.fillStyle='#6b6256'; ctx.font='11px sans-serif'; ctx.textAlign='center';
-      for(var m=Math.ceil(left*4)/4; m<=left+W/s; m+=0.25){
-        var big=Math.abs(m-Math.round(m))<1e-6, half=Math.abs(2*m-Math.round(2*m))<1e-6;
-        ctx.beginPath(); ctx.moveTo(X(m),Y(0)); ctx.lineTo(X(m),Y(0)+(big?9:half?6:3)); ctx.stroke();
-        if(big) ctx.fillText(Math.round(m)+' m',X(m),Y(0)+20);
+      for(var m=Math.ceil(left*4)/4; m<=right; m+=0.25){
+        var big=Math.abs(m-Math.round(m))<1e-6, half=Math.abs(2*m-Math.round(2*m))<1e-6, gm=Y(G(m));
+        ctx.beginPath(); ctx.moveTo(X(m),gm); ctx.lineTo(X(m),gm+(big?9:half?6:3)); ctx.stroke();
+        if(big) ctx.fillText(Math.round(m)+' m',X(m),gm+20);
       }
       for(var k=0;k<d.obs.length;k++){
-        var b=d.obs[k];
+        var b=d.obs[k], top=(b.length>3?b[3]:0)+b[2];
         if(X(b[0]+b[1])<0||X(b[0])>W) continue;
-        ctx.fillStyle='#9a9a9a'; ctx.fillRect(X(b[0]),Y(b[2]),b[1]*s,b[2]*s);
-        ctx.strokeStyle='#555'; ctx.strokeRect(X(b[0]),Y(b[2]),b[1]*s,b[2]*s);
+        ctx.fillStyle='#9a9a9a'; ctx.fillRect(X(b[0]),Y(top),b[1]*s,b[2]*s);
+        ctx.strokeStyle='#555'; ctx.strokeRect(X(b[0]),Y(top),b[1]*s,b[2]*s);
       }
       ctx.lineCap='round';
       function seg(i,j,color,width){ctx.strokeStyle=color;ctx.lineWidth=width;ctx.beginPath();
@@ -222,9 +235,19 @@ std::string ReplayJson(const RunData& run, const SuiteReportOptions& options) {
     }
   }
   std::string obs;
-  for (const Obstacle& o : run.obstacles) {
+  const Terrain& terrain = run.terrain;
+  for (size_t i = 0; i < terrain.obstacles.size(); ++i) {
+    const Obstacle& o = terrain.obstacles[i];
     obs += (obs.empty() ? "[" : ",[") + JsonNumber(o.x_start, dec) + ',' +
-           JsonNumber(o.length, dec) + ',' + JsonNumber(o.height, dec) + ']';
+           JsonNumber(o.length, dec) + ',' + JsonNumber(o.height, dec) + ',' +
+           JsonNumber(terrain.ObstacleBase(static_cast<int>(i)), dec) + ']';
+  }
+  std::string ground;
+  const GroundProfile& profile = terrain.ground;
+  for (int k = 1; k < profile.num_segments(); ++k) {
+    const GroundSegment& g = profile.segment(k);
+    ground += (ground.empty() ? "" : ",") + JsonNumber(g.x_start, dec) + ',' +
+              JsonNumber(g.height, dec) + ',' + JsonNumber(g.grade, 6);
   }
   // Per step: touchdown time, V_d, V_M, L_step (for the overlay).
   std::string steps;
@@ -235,7 +258,7 @@ std::string ReplayJson(const RunData& run, const SuiteReportOptions& options) {
   }
   return "{\"fps\":" + JsonNumber(fps, 6) + ",\"frames\":" + std::to_string(frames) + ",\"t\":[" +
          t + "],\"p\":[" + p + "],\"c\":[" + (tr.contact.empty() ? "" : c) + "],\"obs\":[" + obs +
-         "],\"s\":[" + steps + "]}";
+         "],\"g\":[" + ground + "],\"s\":[" + steps + "]}";
 }
 }  // namespace
 
@@ -413,9 +436,29 @@ std::string StepsTable(const RunData& run) {
   return html.str();
 }
 
-std::string TerrainText(const std::vector<Obstacle>& obstacles) {
-  if (obstacles.empty()) return "flat ground";
-  std::string out =
+std::string TerrainText(const Terrain& terrain) {
+  const std::vector<Obstacle>& obstacles = terrain.obstacles;
+  const std::vector<SlopeBreak>& breaks = terrain.ground.breaks();
+  if (obstacles.empty() && breaks.empty()) return "flat ground";
+  std::string out;
+  if (!breaks.empty()) {
+    out = "ground flat, then";
+    for (size_t k = 0; k < breaks.size(); ++k) {
+      const double deg = breaks[k].slope * 180.0 / M_PI;
+      char buffer[160];
+      if (deg == 0.0) {
+        std::snprintf(buffer, sizeof buffer, "%s flat from x = %.2f m", k == 0 ? "" : ",",
+                      breaks[k].x_start);
+      } else {
+        std::snprintf(buffer, sizeof buffer, "%s %s %.1f&deg; from x = %.2f m", k == 0 ? "" : ",",
+                      deg < 0.0 ? "up" : "down", std::abs(deg), breaks[k].x_start);
+      }
+      out += buffer;
+    }
+    if (!obstacles.empty()) out += "; ";
+  }
+  if (obstacles.empty()) return out;
+  out +=
       std::to_string(obstacles.size()) + (obstacles.size() == 1 ? " obstacle: " : " obstacles: ");
   for (size_t k = 0; k < obstacles.size(); ++k) {
     char buffer[160];

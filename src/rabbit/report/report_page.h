@@ -36,8 +36,8 @@ std::string ComparisonTable(const std::vector<const VariantComparison*>& variant
 // A collapsible table of the run's steps.
 std::string StepsTable(const RunData& run);
 
-// The obstacles in words ("flat ground" when none).
-std::string TerrainText(const std::vector<Obstacle>& obstacles);
+// The ground profile and obstacles in words ("flat ground" when neither).
+std::string TerrainText(const Terrain& terrain);
 
 }  // namespace report_internal
 }  // namespace rabbit

@@ -59,8 +59,8 @@ void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::st
         << Cell(scenario.start_gait) << "\nseed," << scenario.seed << "\npushes,"
         << Cell(PushesText(scenario.pushes)) << "\nv_m_noise_std_m_s,"
         << Number(scenario.walker.v_m_noise) << "\nd_obs_noise_std_m,"
-        << Number(scenario.walker.d_obs_noise) << "\noutcome,"
-        << OutcomeName(run.sim.outcome) << "\nreason," << Cell(run.sim.reason) << "\n";
+        << Number(scenario.walker.d_obs_noise) << "\noutcome," << OutcomeName(run.sim.outcome)
+        << "\nreason," << Cell(run.sim.reason) << "\n";
   });
   WriteTrajectoryCsvFile(run.sim, (base / "trajectory.csv").string());
   size_t gaits = 0;
@@ -91,10 +91,20 @@ void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::st
           << Number(t.q0_d) << ',' << Number(t.q0) << '\n';
     }
   });
+  const Terrain& terrain = scenario.terrain;
   WriteFileAtomically((base / "terrain.csv").string(), [&](std::ostream& out) {
-    out << "x_start_m,length_m,height_m\n";
-    for (const Obstacle& o : scenario.terrain.obstacles) {
-      out << Number(o.x_start) << ',' << Number(o.length) << ',' << Number(o.height) << '\n';
+    out << "x_start_m,length_m,height_m,base_m\n";
+    for (size_t i = 0; i < terrain.obstacles.size(); ++i) {
+      const Obstacle& o = terrain.obstacles[i];
+      out << Number(o.x_start) << ',' << Number(o.length) << ',' << Number(o.height) << ','
+          << Number(terrain.ObstacleBase(static_cast<int>(i))) << '\n';
+    }
+  });
+  WriteFileAtomically((base / "ground.csv").string(), [&](std::ostream& out) {
+    out << "x_start_m,slope_deg,height_m\n";
+    for (const SlopeBreak& b : terrain.ground.breaks()) {
+      out << Number(b.x_start) << ',' << Number(b.slope * 180.0 / M_PI) << ','
+          << Number(terrain.GroundHeight(b.x_start)) << '\n';
     }
   });
 }

@@ -7,7 +7,11 @@
 //                            d_obs_m,q0_d_deg,w_O1..w_ON,rules,warmup
 //   DIR/<run>/tracking.csv   t_s,stance_leg,e_rad,q_sw1_d_rad,q_sw1_rad,q_sw2_d_rad,q_sw2_rad,
 //                            q0_d_rad,q0_rad (legs 1-based; references nan when none)
-//   DIR/<run>/terrain.csv    x_start_m,length_m,height_m
+//   DIR/<run>/terrain.csv    x_start_m,length_m,height_m,base_m: the obstacles (base_m: the
+//                            ground's height under them)
+//   DIR/<run>/ground.csv     x_start_m,slope_deg,height_m: the ground profile's breakpoints
+//                            (slope from x_start on, positive descending; height at x_start);
+//                            no rows: flat ground y = 0
 #ifndef RABBIT_REPORT_RUN_FILES_H_
 #define RABBIT_REPORT_RUN_FILES_H_
 

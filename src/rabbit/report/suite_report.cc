@@ -40,6 +40,7 @@ using report_internal::ReplayHtml;
 using report_internal::RunData;
 using report_internal::RunLabel;
 using report_internal::ScenarioGroup;
+using report_internal::SlopeWindow;
 using report_internal::StartWindow;
 using report_internal::Step;
 using report_internal::StepsFigure;
@@ -202,10 +203,16 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
     if (!tr.t.empty()) {
       mine.push_back(
           StickDiagramFigure(main, StartWindow(tr, options.stick_window), options, &figures));
-      if (!main.obstacles.empty()) {
+      if (!main.terrain.obstacles.empty()) {
         mine.push_back(StickDiagramFigure(
-            main, ObstacleWindow(tr, main.obstacles.front(), options.stick_window), options,
+            main, ObstacleWindow(tr, main.terrain.obstacles.front(), options.stick_window), options,
             &figures));
+      }
+      const std::vector<SlopeBreak>& breaks = main.terrain.ground.breaks();
+      if (!breaks.empty()) {
+        mine.push_back(
+            StickDiagramFigure(main, SlopeWindow(tr, breaks.front().x_start, options.stick_window),
+                               options, &figures));
       }
     }
     std::vector<const RunData*> with_steps;
@@ -213,12 +220,13 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
       if (!runs[k].steps.empty()) with_steps.push_back(&runs[k]);
     }
     if (!with_steps.empty() && with_steps.front() == &main) {
-      mine.push_back(StepsFigure(with_steps, !main.obstacles.empty(), options, &figures));
+      mine.push_back(StepsFigure(with_steps, !main.terrain.obstacles.empty(), options, &figures));
     }
     if (!tr.t.empty() && !main.tracking.t.empty()) {
-      const Window w = main.obstacles.empty()
-                           ? LastWindow(tr, options.tracking_window)
-                           : ObstacleWindow(tr, main.obstacles.front(), options.tracking_window);
+      const Window w =
+          main.terrain.obstacles.empty()
+              ? LastWindow(tr, options.tracking_window)
+              : ObstacleWindow(tr, main.terrain.obstacles.front(), options.tracking_window);
       if (HasSamplesIn(main.tracking.t, w)) {
         mine.push_back(TrackingFigure(main, w, options, &figures));
       }
@@ -295,7 +303,7 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
     html << "<section id=\"scenario-" << g << "\"><h2>" << HtmlEscape(group.name) << "</h2>\n";
     if (!main.description.empty()) html << "<p>" << HtmlEscape(main.description) << "</p>\n";
     html << "<p class=\"note\">";
-    if (detail) html << "Terrain: " << TerrainText(main.obstacles) << ". ";
+    if (detail) html << "Terrain: " << TerrainText(main.terrain) << ". ";
     html << "Runs: ";
     for (size_t i = 0; i < group.runs.size(); ++i) {
       const SummaryRow& r = runs[group.runs[i]].row;

@@ -9,6 +9,7 @@
 //   DIR/<run>/steps.csv       one row per step: V_d, V_M, L_step, d_obs, fuzzy weights w_Ok, rules
 //   DIR/<run>/tracking.csv    swing hip and knee, reference and actual
 //   DIR/<run>/terrain.csv     the obstacles
+//   DIR/<run>/ground.csv      the ground profile's breakpoints (optional: flat ground y = 0)
 // Output, DIR/comparison.csv (the head-to-head of the variants per family or plain scenario,
 // rabbit/report/comparison.h) and DIR/index.html: one self-contained page (inline CSS, JS, and
 // figures as data: images): the head-to-head (an overview chart of every group's success rates,

@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <limits>
 #include <sstream>
+#include <vector>
 
 namespace rabbit {
 namespace {
@@ -70,7 +71,22 @@ std::string StickDiagramSvg(const Model& model, const std::vector<SimSample>& sa
   }
   x_lo -= 0.1;
   x_hi += 0.1;
-  const double y_lo = -0.05, y_hi = 1.6;
+  // The vertical range from the ground under the figures (flat ground: y = 0).
+  std::vector<double> ground_x = {x_lo};
+  for (const SlopeBreak& b : terrain.ground.breaks()) {
+    if (b.x_start > x_lo && b.x_start < x_hi) ground_x.push_back(b.x_start);
+  }
+  ground_x.push_back(x_hi);
+  double ground_lo = 0.0, ground_hi = 0.0;
+  if (!terrain.ground.is_flat_zero()) {
+    ground_lo = std::numeric_limits<double>::infinity();
+    ground_hi = -ground_lo;
+    for (double x : ground_x) {
+      ground_lo = std::min(ground_lo, terrain.GroundHeight(x));
+      ground_hi = std::max(ground_hi, terrain.GroundHeight(x));
+    }
+  }
+  const double y_lo = ground_lo - 0.05, y_hi = ground_hi + 1.6;
   const double scale = 300.0;  // px per m
   const double w = (x_hi - x_lo) * scale, h = (y_hi - y_lo) * scale;
   auto X = [&](double x) { return Fmt((x - x_lo) * scale); };
@@ -78,11 +94,19 @@ std::string StickDiagramSvg(const Model& model, const std::vector<SimSample>& sa
   std::ostringstream svg;
   svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << Fmt(std::min(w, 1400.0))
       << "' viewBox='0 0 " << Fmt(w) << ' ' << Fmt(h) << "' style='background:#fff'>";
-  svg << "<line x1='0' y1='" << Y(0) << "' x2='" << Fmt(w) << "' y2='" << Y(0)
-      << "' stroke='#555' stroke-width='2'/>";
-  for (const Obstacle& o : terrain.obstacles) {
-    svg << "<rect x='" << X(o.x_start) << "' y='" << Y(o.height) << "' width='"
-        << Fmt(o.length * scale) << "' height='" << Fmt(o.height * scale) << "' fill='#888'/>";
+  if (terrain.ground.is_flat_zero()) {
+    svg << "<line x1='0' y1='" << Y(0) << "' x2='" << Fmt(w) << "' y2='" << Y(0)
+        << "' stroke='#555' stroke-width='2'/>";
+  } else {
+    svg << "<polyline fill='none' stroke='#555' stroke-width='2' points='";
+    for (double x : ground_x) svg << X(x) << ',' << Y(terrain.GroundHeight(x)) << ' ';
+    svg << "'/>";
+  }
+  for (size_t i = 0; i < terrain.obstacles.size(); ++i) {
+    const Obstacle& o = terrain.obstacles[i];
+    const double top = terrain.ObstacleTop(static_cast<int>(i));
+    svg << "<rect x='" << X(o.x_start) << "' y='" << Y(top) << "' width='" << Fmt(o.length * scale)
+        << "' height='" << Fmt(o.height * scale) << "' fill='#888'/>";
   }
   for (size_t i = 0; i < frames.size(); ++i) {
     const Pose p = ComputePose(model, frames[i]->q);

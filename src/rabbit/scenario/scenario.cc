@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cctype>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <map>
 #include <mutex>
@@ -107,11 +108,43 @@ ActuatorParams ReadActuator(TomlReader t) {
   return p;
 }
 
+// [terrain]: a uniform slope (slope_deg, the tilted-gravity frame) or a ground profile
+// (slopes = [{x_start, slope_deg}, ...]), not both; obstacles on flat ground.
 Terrain ReadTerrain(TomlReader t, ModelParams* model) {
   Terrain terrain;
   model->slope = t.Double("slope_deg", model->slope / kDeg) * kDeg;
   Validate(t, *model);
-  for (TomlReader& o : t.TableArray("obstacles")) {
+  std::vector<SlopeBreak> breaks;
+  std::vector<TomlReader> rows = t.TableArray("slopes");
+  for (size_t i = 0; i < rows.size(); ++i) {
+    TomlReader& b = rows[i];
+    SlopeBreak brk;
+    brk.x_start = b.RequiredDouble("x_start");
+    const double slope_deg = b.RequiredDouble("slope_deg");
+    b.Finish();
+    if (std::abs(brk.x_start) > GroundProfile::kMaxAbsX) b.Fail("x_start", "beyond +-1e4 m");
+    if (!(std::abs(slope_deg * kDeg) < GroundProfile::kMaxSlope)) {
+      b.Fail("slope_deg", "must be below 30 deg in magnitude");
+    }
+    if (i > 0 && !(brk.x_start > breaks.back().x_start)) {
+      char message[120];
+      std::snprintf(message, sizeof message,
+                    "breakpoints must be in increasing x_start (the previous one is at %g m)",
+                    breaks.back().x_start);
+      b.Fail("x_start", message);
+    }
+    brk.slope = slope_deg * kDeg;
+    breaks.push_back(brk);
+  }
+  if (!breaks.empty() && model->slope != 0.0) {
+    t.Fail("slopes",
+           "a ground profile does not combine with a uniform slope_deg (the tilted-gravity frame): "
+           "give one of them (a profile with one breakpoint before the walk is a uniform slope)");
+  }
+  if (!breaks.empty()) terrain.ground = GroundProfile(std::move(breaks));
+  std::vector<TomlReader> obstacles = t.TableArray("obstacles");
+  for (size_t i = 0; i < obstacles.size(); ++i) {
+    TomlReader& o = obstacles[i];
     Obstacle obstacle;
     obstacle.x_start = o.RequiredDouble("x_start");
     obstacle.length = o.RequiredDouble("length");
@@ -119,6 +152,13 @@ Terrain ReadTerrain(TomlReader t, ModelParams* model) {
     o.Finish();
     if (obstacle.length <= 0.0) o.Fail("length", "must be > 0");
     if (obstacle.height <= 0.0) o.Fail("height", "must be > 0");
+    const GroundProfile& ground = terrain.ground;
+    const GroundSegment& under = ground.segment(ground.SegmentAt(obstacle.x_start));
+    if (under.slope != 0.0 || obstacle.x_end() > under.x_end) {
+      o.Fail("x_start",
+             "the obstacle stands on sloped ground (its span must lie on one flat part of "
+             "[terrain] slopes; its base is the ground's height there)");
+    }
     terrain.obstacles.push_back(obstacle);
   }
   t.Finish();

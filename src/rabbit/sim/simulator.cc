@@ -83,7 +83,8 @@ Vec7 TrunkForceToGeneralized(const Vec7& q, const Vec2& force, double height) {
 namespace {
 
 constexpr int kStateSize = 2 * kNq;
-// Guards per foot: touch, slip, resume; then one per foot and obstacle (span).
+// Guards per foot: touch, slip, resume; then one per foot and obstacle (span); then, when the
+// ground profile has breakpoints, one per foot for its ground segment.
 constexpr int kFootGuards = 3;
 // Foot penetration into an obstacle's top that does not count as a link entering it (m).
 constexpr double kObstacleTopMargin = 0.01;
@@ -95,6 +96,10 @@ struct RunContext {
   Vec4 tau = Vec4::Zero();
   std::vector<const TrunkPush*> pushes;  // trunk pushes held over the period
   int num_obstacles = 0;
+  bool segment_guards = false;  // the ground has more than one segment
+  int SegmentGuardIndex(int leg) const {
+    return kFootGuards * kNumLegs + kNumLegs * num_obstacles + leg;
+  }
 };
 
 int Rhs(double /*t*/, const double* y, double* ydot, void* user) {
@@ -113,7 +118,7 @@ int Rhs(double /*t*/, const double* y, double* ydot, void* user) {
       if (c->feet[leg].mode == ContactMode::kAir) continue;
       const FootForce f = ComputeFootForce(c->setup->contact, c->setup->terrain, c->feet[leg],
                                            c->data.foot_pos[leg], c->data.foot_vel[leg]);
-      AddFootForce(model, c->data, leg, Vec2(f.ft, f.fn), &Q);
+      AddFootForce(model, c->data, leg, Vec2(f.fx, f.fy), &Q);
     }
   }
   if (!SolveForAcceleration(model, Q, &c->data)) return 1;
@@ -142,6 +147,7 @@ int Roots(double /*t*/, const double* y, double* g, void* user) {
       g[kFootGuards * kNumLegs + leg * c->num_obstacles + j] =
           SpanGuard(terrain, c->feet[leg], pos, j);
     }
+    if (c->segment_guards) g[c->SegmentGuardIndex(leg)] = SegmentGuard(terrain, c->feet[leg], pos);
   }
   return 0;
 }
@@ -175,7 +181,10 @@ bool CheckState(const SimSetup& setup, const SimSample& s, const Pose& pose, Sim
   const FallCriteria& fall = setup.options.fall;
   if (!fall.enabled) return true;
   const char* why = nullptr;
-  if (s.q[kY] < fall.min_hip_height) why = "hip below the fall height";
+  // Hip height over the ground under it.
+  if (s.q[kY] - terrain.GroundHeight(s.q[kX]) < fall.min_hip_height) {
+    why = "hip below the fall height";
+  }
   if (std::abs(s.q[kQ0]) > fall.max_trunk_pitch) why = "trunk pitch beyond the fall limit";
   if (setup.options.contact) {
     for (int leg = 0; leg < kNumLegs; ++leg) {
@@ -208,7 +217,7 @@ bool ApplyTransitions(const SimSetup& setup, int leg, const FootTriggers& due, d
     return false;
   }
   const ContactMode before = foot.mode;
-  if (due.touch) OnTouchEvent(pos, vel, &foot);
+  if (due.touch) OnTouchEvent(setup.terrain, pos, vel, &foot);
   if (due.friction) OnFrictionEvent(setup.contact, setup.terrain, pos, vel, &foot);
   if (foot.mode != before) {
     const FootForce f = ComputeFootForce(setup.contact, setup.terrain, foot, pos, vel);
@@ -226,7 +235,8 @@ bool ApplyTransitions(const SimSetup& setup, int leg, const FootTriggers& due, d
 FootTriggers ViolatedGuards(const SimSetup& setup, const FootContactState& foot, const Vec2& pos,
                             const Vec2& vel) {
   FootTriggers due;
-  due.span = setup.terrain.SurfaceAt(pos.x()) != foot.surface;
+  due.span = setup.terrain.SurfaceAt(pos.x()) != foot.surface ||
+             setup.terrain.ground.SegmentAt(pos.x()) != foot.segment;
   due.touch = TouchGuard(setup.terrain, foot, pos) < 0.0;
   due.friction = !due.touch && foot.mode != ContactMode::kAir &&
                  SlipGuard(setup.contact, setup.terrain, foot, pos, vel) < 0.0;
@@ -254,6 +264,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
   RunContext ctx;
   ctx.setup = &setup;
   ctx.num_obstacles = static_cast<int>(terrain.obstacles.size());
+  ctx.segment_guards = opt.contact && terrain.ground.num_segments() > 1;
   ctx.pushes.reserve(setup.pushes.size());
   if (opt.contact) {
     for (int leg = 0; leg < kNumLegs; ++leg) {
@@ -264,7 +275,8 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
   Eigen::Map<Vec7> y_q(y), y_qd(y + kNq);
   y_q = q0;
   y_qd = qd0;
-  const int num_roots = opt.contact ? kNumLegs * (kFootGuards + ctx.num_obstacles) : 0;
+  const int num_roots =
+      opt.contact ? kNumLegs * (kFootGuards + ctx.num_obstacles + (ctx.segment_guards ? 1 : 0)) : 0;
   std::unique_ptr<OdeIntegrator> integrator =
       OdeIntegrator::Create(opt.integrator, kStateSize, num_roots, Rhs, Roots, &ctx, 0.0, y);
 
@@ -406,6 +418,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
         for (int j = 0; j < ctx.num_obstacles; ++j) {
           due.span |= fired[kFootGuards * kNumLegs + leg * ctx.num_obstacles + j] != 0;
         }
+        if (ctx.segment_guards) due.span |= fired[ctx.SegmentGuardIndex(leg)] != 0;
         ok = ApplyTransitions(setup, leg, due, t, ctx.data.foot_pos[leg], ctx.data.foot_vel[leg],
                               &ctx, &result);
       }
