@@ -206,6 +206,16 @@ TEST(MultiCmacPatternTest, TheCacheTrainsEachSettingOnce) {
   fis.inputs[1].sets[3].membership.b += 1e-9;
   EXPECT_NE(cache.Get(teacher.WithFis(fis), domain, SmallOptions()), a);
   EXPECT_EQ(cache.trainings(), 3);
+  // Only the last kMaxPatterns settings are kept.
+  for (size_t k = 0; k < MultiCmacPatternCache::kMaxPatterns; ++k) {
+    MultiCmacPatternOptions o = SmallOptions();
+    o.hash_seed = 100 + k;
+    o.grid_e_step = 2 * o.e_quantum;  // quicker
+    cache.Get(teacher, domain, o);
+  }
+  EXPECT_EQ(cache.trainings(), 3 + static_cast<int>(MultiCmacPatternCache::kMaxPatterns));
+  cache.Get(teacher, domain, SmallOptions());  // trained again
+  EXPECT_EQ(cache.trainings(), 4 + static_cast<int>(MultiCmacPatternCache::kMaxPatterns));
 }
 
 TEST(MultiCmacPatternTest, TheWalkersViewHoldsItsContextAndItsFrame) {

@@ -103,8 +103,15 @@ std::shared_ptr<const MultiCmacPattern> MultiCmacPatternCache::Get(
   {
     std::lock_guard<std::mutex> lock(mutex_);
     std::shared_ptr<Entry>& slot = entries_[key];
-    if (slot == nullptr) slot = std::make_shared<Entry>();
+    if (slot == nullptr) {
+      slot = std::make_shared<Entry>();
+      order_.push_back(key);
+    }
     entry = slot;
+    if (order_.size() > kMaxPatterns) {  // callers holding the oldest keep it alive
+      entries_.erase(order_.front());
+      order_.erase(order_.begin());
+    }
   }
   std::lock_guard<std::mutex> lock(entry->mutex);
   if (entry->pattern == nullptr) {

@@ -30,9 +30,12 @@ namespace rabbit {
 
 // The multi-input CMAC baselines trained from one Fuzzy-CMAC's networks: each distinct (fuzzy
 // system, domain, options) is trained once, on first use. Thread-safe: a training runs outside
-// the map's lock, and callers that want the same pattern meanwhile wait for it.
+// the map's lock, and callers that want the same pattern meanwhile wait for it. Keeps the last
+// kMaxPatterns settings (2 MB each by default; a tuning job may change them at every evaluation):
+// an older one is trained again if asked for again.
 class MultiCmacPatternCache {
  public:
+  static constexpr size_t kMaxPatterns = 8;
   // teacher: the library's pattern, or it with a scenario's fuzzy system (FuzzyCmac::WithFis).
   // Throws as TrainMultiCmacPattern (and again on the next call: a failure is not cached).
   std::shared_ptr<const MultiCmacPattern> Get(const FuzzyCmac& teacher,
@@ -49,6 +52,7 @@ class MultiCmacPatternCache {
   };
   mutable std::mutex mutex_;
   std::map<std::string, std::shared_ptr<Entry>> entries_;
+  std::vector<std::string> order_;  // keys of entries_, oldest first
   int trainings_ = 0;
 };
 
