@@ -225,7 +225,7 @@ MultiCmacPattern TrainMultiCmacPattern(const FuzzyCmac& teacher,
   // The grid points' active slots (layers per point), the slots reached, the teacher's outputs.
   std::vector<int> slots;
   std::vector<char> reached(static_cast<size_t>(options.hash_table_size), 0);
-  std::vector<Eigen::Vector4d> targets;
+  std::vector<double> targets;  // kGaitOutputs per point
   CmacActive active;
   ForEachTeacherPoint(teacher, domain.thigh_frame, grid,
                       [&](const std::array<double, kInputs>& x, const Eigen::Vector4d& y) {
@@ -234,9 +234,9 @@ MultiCmacPattern TrainMultiCmacPattern(const FuzzyCmac& teacher,
                           slots.push_back(active.index[j]);
                           reached[active.index[j]] = 1;
                         }
-                        targets.push_back(y);
+                        targets.insert(targets.end(), y.data(), y.data() + kGaitOutputs);
                       });
-  const int n = static_cast<int>(targets.size());
+  const int n = static_cast<int>(targets.size() / kGaitOutputs);
   if (n == 0) throw std::runtime_error("multi-input CMAC pattern: the teacher fired nowhere");
   // Unknowns: the slots reached, in slot order.
   std::vector<int> used, column(reached.size(), -1);
@@ -265,9 +265,8 @@ MultiCmacPattern TrainMultiCmacPattern(const FuzzyCmac& teacher,
   }
   a.makeCompressed();
   slots = {};
-  Eigen::MatrixXd y(n, kGaitOutputs);
-  for (int p = 0; p < n; ++p) y.row(p) = targets[p].transpose();
-  targets = {};
+  const Eigen::Map<const Eigen::Matrix<double, Eigen::Dynamic, kGaitOutputs, Eigen::RowMajor>> y(
+      targets.data(), n, kGaitOutputs);
   using Sparse = Eigen::SparseMatrix<double>;
   Sparse normal = Sparse(a.transpose() * a);
   for (int i = 0; i < m; ++i) normal.coeffRef(i, i) += options.ridge;
@@ -291,10 +290,15 @@ MultiCmacPattern TrainMultiCmacPattern(const FuzzyCmac& teacher,
     for (int i = 0; i < m; ++i) weights[used[i]] = w(i, o);
   }
   if (summary != nullptr) {
-    const Eigen::MatrixXd residual = a * w - y;
-    for (int o = 0; o < kGaitOutputs; ++o) {
-      summary->rms[o] = std::sqrt(residual.col(o).squaredNorm() / n);
+    Eigen::Vector4d sum = Eigen::Vector4d::Zero();
+    for (int p = 0; p < n; ++p) {
+      Eigen::Vector4d r = -y.row(p).transpose();
+      for (Eigen::SparseMatrix<double, Eigen::RowMajor>::InnerIterator it(a, p); it; ++it) {
+        r += it.value() * w.row(it.col()).transpose();
+      }
+      sum += r.cwiseProduct(r);
     }
+    summary->rms = (sum / n).cwiseSqrt();
     summary->points = n;
     summary->unknowns = m;
     summary->iterations = iterations;
