@@ -1,8 +1,9 @@
 // The closed loop (issue 5): the Fuzzy-CMAC walker against the pragmatic rules on the same
 // scenario, robot and simulator (the walker's cost is the only difference), the controller's cost
-// per control period, the gait pattern in the chapter's frame and in the thigh frame, and the whole
-// default suite on 1 and 2 threads. Run with --benchmark_enable_random_interleaving=true so the
-// pairs alternate (this machine's speed drifts).
+// per control period, the gait pattern in the chapter's frame and in the thigh frame (and the
+// multi_cmac baseline's query and training), and the whole default suite on 1 and 2 threads. Run
+// with --benchmark_enable_random_interleaving=true so the pairs alternate (this machine's speed
+// drifts).
 #include <benchmark/benchmark.h>
 
 #include <thread>
@@ -89,6 +90,32 @@ void BM_GaitPatternQueryChapterFrame(benchmark::State& state) { GaitPatternQuery
 void BM_GaitPatternQueryThighFrame(benchmark::State& state) { GaitPatternQuery(state, true); }
 BENCHMARK(BM_GaitPatternQueryChapterFrame);
 BENCHMARK(BM_GaitPatternQueryThighFrame);
+
+// The multi_cmac baseline: its query (four multi-input CMACs at (th_st, V_M, d_obs), thigh frame)
+// beside the Fuzzy-CMAC's above, and its training on the Fuzzy-CMAC with the default options.
+void BM_MultiCmacPatternQuery(benchmark::State& state) {
+  static const std::shared_ptr<const MultiCmacPattern> pattern =
+      MultiCmacBaseline(Named("flat"), *Library());
+  double e = -0.2;
+  for (auto _ : state) {
+    e = e > 0.3 ? -0.2 : e + 1e-4;
+    benchmark::DoNotOptimize(pattern->Query(e, 0.56, 1.0));
+  }
+}
+BENCHMARK(BM_MultiCmacPatternQuery);
+
+void BM_MultiCmacPatternTraining(benchmark::State& state) {
+  const Scenario& s = Named("flat");
+  std::vector<double> velocities;
+  for (const GaitRecord& g : Library()->gaits) velocities.push_back(g.measured.v_m);
+  const MultiCmacPatternDomain domain =
+      TeacherDomain(Library()->pattern, velocities, s.walker.thigh_frame, s.walker.d_obs_max,
+                    s.multi_cmac.v_m_margin);
+  for (auto _ : state) {
+    benchmark::DoNotOptimize(TrainMultiCmacPattern(Library()->pattern, domain, s.multi_cmac));
+  }
+}
+BENCHMARK(BM_MultiCmacPatternTraining)->Unit(benchmark::kMillisecond)->Iterations(3);
 
 // The whole default suite (every scenario and baseline, no files written) on N threads.
 void BM_PaperSuite(benchmark::State& state) {

@@ -286,6 +286,44 @@ TEST_F(CliTest, RunWritesTheReportAndIsTheSameOnOneAndTwoThreads) {
   }
 }
 
+TEST_F(CliTest, RunWithTheMultiCmacBaselineWritesItsRunFolderTheSameOnOneAndTwoThreads) {
+  const std::string suite =
+      Write("multi.toml", SmallSuite("[scenario.controller]\nbaselines = [\"multi_cmac\"]\n"));
+  const fs::path one = dir_ / "one", two = dir_ / "two";
+  const CliRun a = RunCli("run " + suite + " --jobs 1 --no-html -q --out " + one.string());
+  ASSERT_EQ(a.code, 0) << a.output;
+  const CliRun b = RunCli("run " + suite + " --jobs 2 --no-html -q --out " + two.string());
+  ASSERT_EQ(b.code, 0) << b.output;
+  for (const char* file : {"steps.csv", "trajectory.csv", "tracking.csv", "meta.csv"}) {
+    EXPECT_TRUE(fs::exists(one / "second+multi_cmac" / file)) << file;
+    EXPECT_EQ(ReadFile(one / "second+multi_cmac" / file),
+              ReadFile(two / "second+multi_cmac" / file))
+        << file;
+  }
+  const std::string summary = ReadFile(one / "summary.csv");
+  EXPECT_NE(summary.find("small,second,multi_cmac,second+multi_cmac"), std::string::npos);
+  EXPECT_EQ(WithoutWallTime(summary), WithoutWallTime(ReadFile(two / "summary.csv")));
+  // No per-gait weights: the columns of the other variants, all nan; no rules.
+  std::stringstream steps(ReadFile(one / "second+multi_cmac" / "steps.csv"));
+  std::string line;
+  std::getline(steps, line);
+  EXPECT_NE(line.find(",w_O1,w_O2,w_O3,w_O4,w_O5,rules,warmup"), std::string::npos) << line;
+  int rows = 0;
+  while (std::getline(steps, line)) {
+    ++rows;
+    EXPECT_NE(line.find(",nan,nan,nan,nan,nan,,"), std::string::npos) << line;
+  }
+  EXPECT_GT(rows, 6);  // past the warm-up
+  // A bad setting is bad input.
+  const CliRun bad = RunCli(
+      "run " + Write("bad.toml", SmallSuite("[scenario.controller.multi_cmac]\nv_m_width = 2\n")) +
+      " --no-html --out " + (dir_ / "bad").string());
+  EXPECT_EQ(bad.code, 2) << bad.output;
+  EXPECT_NE(bad.output.find("scenario[2].controller.multi_cmac.v_m_width"), std::string::npos)
+      << bad.output;
+  EXPECT_FALSE(fs::exists(dir_ / "bad"));
+}
+
 TEST_F(CliTest, RunExitsOneWhenARequiredScenarioFailsItsCriteria) {
   const fs::path out = dir_ / "report";
   // 6 s cannot give 40 steps; the non-required scenario's failure alone would not count.

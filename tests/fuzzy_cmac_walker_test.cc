@@ -1,12 +1,15 @@
 // The closed-loop walker (eqs. 19-24): velocity profiles at hand-computed points; the PD laws equal
 // a hand computation on a gait pattern of constant CMACs; the velocity law on a scripted contact
 // sequence (step lengths and times known); perception of obstacles; seeded noise; the clearance
-// reflex's activation.
+// reflex's activation; any SwingPattern in the Fuzzy-CMAC's place, and nearest-gait switching.
 #include "rabbit/control/fuzzy_cmac_walker.h"
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
+#include <utility>
+#include <vector>
 
 #include "rabbit/learn/ts_fis.h"
 
@@ -116,6 +119,97 @@ TEST(FuzzyCmacWalkerTest, PdLawsOfEquations21To24) {
     EXPECT_NEAR(tau[1], -p.stance_knee_kp * q[kQ12] - p.stance_knee_kd * qd[kQ12], 1e-9);
     EXPECT_NEAR(tau[0], p.trunk_kp * (0.07 - q[kQ0]) - p.trunk_kd * qd[kQ0], 1e-9);
   }
+}
+
+// A gait pattern of constant references that records the contexts it was given.
+class RecordingPattern final : public SwingPattern {
+ public:
+  explicit RecordingPattern(bool thigh_frame) : thigh_frame_(thigh_frame) {}
+  bool SetContext(double v_m, double d_obs) override {
+    contexts->push_back({v_m, d_obs});
+    return true;
+  }
+  bool Supports(bool thigh_frame) const override { return thigh_frame == thigh_frame_; }
+  Eigen::Vector4d Query(double) const override { return {0.2, -0.1, 1.0, -0.4}; }
+  Eigen::Vector4d QueryThigh(double) const override { return {0.2, -0.1, 1.0, -0.4}; }
+  const std::vector<double>& GaitWeights() const override { return none_; }
+  const std::vector<double>& RuleActivations() const override { return none_; }
+  std::size_t MemoryBytes() const override { return 7; }
+  std::shared_ptr<std::vector<std::pair<double, double>>> contexts =
+      std::make_shared<std::vector<std::pair<double, double>>>();
+
+ private:
+  bool thigh_frame_;
+  std::vector<double> none_;
+};
+
+TEST(FuzzyCmacWalkerTest, AnySwingPatternTakesTheFuzzyCmacsPlace) {
+  WalkerParams p;
+  p.warmup_steps = 0;
+  p.thigh_frame = false;
+  p.v_m_initial = 0.55;
+  VelocityProfile v;
+  FuzzyCmacWalker walker(p, std::make_unique<RecordingPattern>(false), v, 0);
+  EXPECT_EQ(walker.gait_pattern().MemoryBytes(), 7u);
+  const Observation obs = Standing(0.0, true, false, 0.0, -0.2);
+  const Vec4 tau = walker.Compute(obs);
+  EXPECT_NEAR(tau[2], p.hip_kp * (0.2 - obs.q[kQ21]) + p.hip_kd * (1.0 - obs.qd[kQ21]), 1e-9);
+  EXPECT_NEAR(tau[3], p.knee_kp * (-0.1 - obs.q[kQ22]) + p.knee_kd * (-0.4 - obs.qd[kQ22]), 1e-9);
+  // The context: before the first step (the assumed V_M, no obstacle), then at each touchdown.
+  auto recording = std::make_unique<RecordingPattern>(false);
+  const auto seen = recording->contexts;
+  FuzzyCmacWalker two(p, std::move(recording), v, 0);
+  WalkTwoSteps(&two);
+  ASSERT_EQ(two.steps().size(), 2u);
+  ASSERT_EQ(seen->size(), 3u);
+  EXPECT_EQ((*seen)[0], std::make_pair(0.55, p.d_obs_max));
+  for (int k = 0; k < 2; ++k) {
+    EXPECT_EQ((*seen)[k + 1], std::make_pair(two.steps()[k].v_m_used, two.steps()[k].d_obs));
+    EXPECT_TRUE(two.steps()[k].weights.empty());
+    EXPECT_TRUE(two.steps()[k].activation.empty());
+  }
+  // The pattern must serve the walker's frame.
+  p.thigh_frame = true;
+  EXPECT_THROW(FuzzyCmacWalker(p, std::make_unique<RecordingPattern>(false), v, 0),
+               std::invalid_argument);
+  p.thigh_frame = false;
+  EXPECT_THROW(FuzzyCmacWalker(p, std::make_unique<RecordingPattern>(true), v, 0),
+               std::invalid_argument);
+  EXPECT_THROW(FuzzyCmacWalker(p, std::unique_ptr<SwingPattern>(), v, 0), std::invalid_argument);
+}
+
+TEST(FuzzyCmacWalkerTest, NearestGaitSwitchingKeepsOneGait) {
+  WalkerParams p;
+  p.warmup_steps = 0;
+  p.thigh_frame = false;
+  p.v_m_average_steps = 1;
+  VelocityProfile v;
+  for (bool nearest : {false, true}) {
+    FuzzyCmacWalker walker(p, std::make_unique<FuzzyCmacSwingPattern>(ConstantPattern(), nearest),
+                           v, 0);
+    WalkTwoSteps(&walker);
+    ASSERT_EQ(walker.steps().size(), 2u);
+    // The first step's V_M = 0.6 m/s is gait 3's centre; the second's 0.9 m/s beyond gait 5's;
+    // only at a V_M between two centres would the blend and the switching differ.
+    for (const WalkerStep& s : walker.steps()) {
+      int ones = 0;
+      for (double w : s.weights) ones += w == 1.0 ? 1 : 0;
+      EXPECT_EQ(ones, 1);
+    }
+  }
+  // Between centres (0.75 m/s after a stride): blended, or switched to the nearer gait.
+  p.v_m_average_steps = 2;
+  FuzzyCmacWalker blended(p, std::make_unique<FuzzyCmacSwingPattern>(ConstantPattern(), false), v,
+                          0);
+  FuzzyCmacWalker switched(p, std::make_unique<FuzzyCmacSwingPattern>(ConstantPattern(), true), v,
+                           0);
+  WalkTwoSteps(&blended);
+  WalkTwoSteps(&switched);
+  EXPECT_NEAR(blended.steps()[1].weights[3], 0.5, 1e-9);
+  EXPECT_NEAR(blended.steps()[1].weights[4], 0.5, 1e-9);
+  const std::vector<double>& w = switched.steps()[1].weights;
+  EXPECT_EQ(w[3] + w[4], 1.0);
+  EXPECT_TRUE(w[3] == 1.0 || w[4] == 1.0);
 }
 
 TEST(FuzzyCmacWalkerTest, VelocityControlOfEquations19And20) {

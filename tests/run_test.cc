@@ -143,6 +143,33 @@ TEST_F(PaperSuiteTest, PatternMemoryIsTheWalkersGaitPatternAndNoneForThePragmati
             std::string::npos);
 }
 
+TEST(MultiCmacBaselineTest, RunsTheWalkerOnTheTrainedPattern) {
+  const Suite suite = LoadSuite(kRoot + "/scenarios/paper.toml");
+  Scenario s = suite.scenarios[1];  // flat
+  ASSERT_EQ(s.name, "flat");
+  s.options.duration = 5.0;
+  const std::shared_ptr<const GaitLibrary> library = LoadGaitLibrary(s.pattern);
+  const RunOutput r = RunScenario(s, "multi_cmac", library.get());
+  EXPECT_EQ(r.run, "flat+multi_cmac");
+  EXPECT_EQ(r.controller, "multi_cmac");
+  EXPECT_EQ(r.sim.outcome, Outcome::kCompleted);
+  EXPECT_EQ(r.metrics.pattern_memory_bytes, 4u * (1u << 16) * sizeof(double));
+  ASSERT_GT(r.steps.size(), 7u);  // past the six warm-up steps
+  for (const StepRow& step : r.steps) {
+    ASSERT_EQ(step.weights.size(), library->gait_names.size());
+    for (double w : step.weights) EXPECT_TRUE(std::isnan(w));
+    EXPECT_EQ(step.rules, "");
+  }
+  // Trained once for the library: a second run reuses the pattern.
+  EXPECT_EQ(library->multi_cmac->trainings(), 1);
+  EXPECT_EQ(MultiCmacBaseline(s, *library), MultiCmacBaseline(s, *library));
+  EXPECT_EQ(library->multi_cmac->trainings(), 1);
+  // The walker's own swing references came from it (tracked after the warm-up).
+  int tracked = 0;
+  for (const WalkerTrack& t : r.tracking) tracked += std::isfinite(t.hip_ref) ? 1 : 0;
+  EXPECT_GT(tracked, 0);
+}
+
 TEST(RunMetricsTest, EnergyAndCostOfTransport) {
   // 10 s of a pragmatic walk: CoT = positive actuator work / (m g distance), and the work equals
   // the sum over the recorded samples (every period) of max(0, tau qd) dt.

@@ -350,6 +350,46 @@ TEST_F(SuiteTest, ReviewFindings) {
   ExpectError(text, -1, "family[3].count", "more than 20000 scenarios");
 }
 
+TEST_F(SuiteTest, TheMultiCmacBaselineAndItsSettings) {
+  const Suite suite = LoadSuite(Write(Walker(
+      "baselines = [\"pragmatic\", \"nearest_gait\", \"multi_cmac\"]\n"
+      "[defaults.controller.multi_cmac]\ne_quantum_deg = 0.5\nhash_table_size = 1024\n"
+      "[[scenario]]\nname = \"a\"\n[[scenario]]\nname = \"b\"\n[scenario.controller.multi_cmac]\n"
+      "ridge = 0.01\nmax_iterations = 50\n")));
+  ASSERT_EQ(suite.scenarios.size(), 2u);
+  const Scenario& a = suite.scenarios[0];
+  EXPECT_EQ(a.baselines, (std::vector<std::string>{"pragmatic", "nearest_gait", "multi_cmac"}));
+  const double kTolerance = 1e-15;
+  EXPECT_NEAR(a.multi_cmac.e_quantum, 0.5 * M_PI / 180.0, kTolerance);
+  EXPECT_EQ(a.multi_cmac.hash_table_size, 1024);
+  const MultiCmacPatternOptions defaults;
+  EXPECT_EQ(a.multi_cmac.ridge, defaults.ridge);
+  EXPECT_EQ(a.multi_cmac.grid_v_m_step, defaults.grid_v_m_step);
+  EXPECT_EQ(suite.scenarios[1].multi_cmac.ridge, 0.01);
+  EXPECT_EQ(suite.scenarios[1].multi_cmac.max_iterations, 50);
+  EXPECT_EQ(suite.scenarios[1].multi_cmac.hash_table_size, 1024);  // from the defaults
+  // Bad keys and values, named with their line (13: the first key of the table at line 12).
+  const std::string table = "[defaults.controller.multi_cmac]\n";
+  const std::string scenario = "[[scenario]]\nname = \"a\"\n";
+  const std::string prefix = "scenario[1].controller.multi_cmac.";
+  ExpectError(Walker(table + "e_widht = 6\n" + scenario), 13, prefix + "e_widht", "unknown key");
+  ExpectError(Walker(table + "v_m_width = 4\n" + scenario), 13, prefix + "v_m_width",
+              "must be >= layers (6)");
+  ExpectError(Walker(table + "e_quantum_deg = -0.25\n" + scenario), 13, prefix + "e_quantum_deg",
+              "must be > 0");
+  ExpectError(Walker(table + "hash_table_size = 0\n" + scenario), 13, prefix + "hash_table_size",
+              "4194304");
+  ExpectError(Walker(table + "grid_d_obs_step = nan\n" + scenario), 13, prefix + "grid_d_obs_step",
+              "finite");
+  ExpectError(Walker(table + "tolerance = 2\n" + scenario), 13, prefix + "tolerance", "(0, 1)");
+  ExpectError(Walker(table + "layers = \"six\"\n" + scenario), 13, prefix + "layers", "integer");
+  ExpectError(Walker(scenario + "[scenario.controller.multi_cmac]\nridge = 0\n"), 15,
+              prefix + "ridge", "must be > 0");
+  ExpectError(
+      Walker(scenario + "[scenario.controller]\nbaselines = [\"multi_cmac\", \"multi_cmac\"]\n"),
+      15, "scenario[1].controller.baselines", "listed twice");
+}
+
 TEST_F(SuiteTest, AScenarioFileIsASuiteOfOne) {
   const Suite suite = LoadSuite(kRoot + "/scenarios/standing_pd_hold.toml");
   ASSERT_EQ(suite.scenarios.size(), 1u);

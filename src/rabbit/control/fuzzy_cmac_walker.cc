@@ -139,6 +139,13 @@ double ObstacleDistance(const Terrain& terrain, double x, double d_max) {
 
 FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params, FuzzyCmac gait_pattern,
                                  VelocityProfile velocity, int stance_leg)
+    : FuzzyCmacWalker(params,
+                      std::make_unique<FuzzyCmacSwingPattern>(std::move(gait_pattern), false),
+                      std::move(velocity), stance_leg) {}
+
+FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
+                                 std::unique_ptr<SwingPattern> gait_pattern,
+                                 VelocityProfile velocity, int stance_leg)
     : p_(params),
       pattern_(std::move(gait_pattern)),
       velocity_(std::move(velocity)),
@@ -150,8 +157,12 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params, FuzzyCmac gait_patt
       rng_(CmacMix64(params.seed)) {
   std::string error;
   if (!p_.IsValid(&error)) throw std::invalid_argument("walker: " + error);
-  if (p_.thigh_frame && pattern_.trunk_pitches().empty()) {
+  if (pattern_ == nullptr) throw std::invalid_argument("walker: no gait pattern");
+  if (p_.thigh_frame && !pattern_->Supports(true)) {
     throw std::invalid_argument("walker: the thigh frame needs the reference gaits' trunk pitches");
+  }
+  if (!p_.thigh_frame && !pattern_->Supports(false)) {
+    throw std::invalid_argument("walker: the gait pattern was learnt in the thigh frame");
   }
 }
 
@@ -171,8 +182,7 @@ double FuzzyCmacWalker::ObstacleAhead(const Observation& obs, double x) const {
 }
 
 void FuzzyCmacWalker::SetContext(double v_m, double d_obs) {
-  pattern_.SetContext(v_m, d_obs);  // no rule firing keeps the previous weights
-  if (p_.nearest_gait) pattern_.KeepStrongestRuleOnly();
+  pattern_->SetContext(v_m, d_obs);  // no rule firing keeps the previous weights
 }
 
 void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
@@ -215,8 +225,8 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   record.v_m_used = v_m_;
   record.d_obs = d_obs;
   record.q0_d = q0_d_;
-  record.weights = pattern_.gait_weights();
-  record.activation = pattern_.rule_activations().activation;
+  record.weights = pattern_->GaitWeights();
+  record.activation = pattern_->RuleActivations();
   record.warmup = warming_up_;
   steps_.push_back(std::move(record));
 }
@@ -318,11 +328,11 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   const double e = q[st_hip];
   Eigen::Vector4d ref;
   if (p_.thigh_frame) {
-    ref = pattern_.QueryThigh(e - q[kQ0]);
+    ref = pattern_->QueryThigh(e - q[kQ0]);
     ref[0] += q[kQ0];  // swing thigh's absolute angle -> the hip joint's angle
     ref[2] += qd[kQ0];
   } else {
-    ref = pattern_.Query(e);
+    ref = pattern_->Query(e);
   }
   if (lift_armed_ && p_.lift_clearance > 0.0 && obs.terrain != nullptr && !obs.foot_contact[sw]) {
     ApplyLift(obs, sw_hip, &ref);

@@ -2,7 +2,9 @@
 //   gait pattern   the Fuzzy-CMAC: every control period the swing leg's references
 //                  [q_i1_d, q_i2_d, qd_i1_d, qd_i2_d] = Y(e) with e = q_st1, the stance hip angle
 //                  (eq. 13); the fuzzy system is evaluated once per step, at touchdown, at
-//                  X = [V_M, d_obs] and held during the step;
+//                  X = [V_M, d_obs] and held during the step. Any SwingPattern
+//                  (rabbit/learn/swing_pattern.h) may take its place: the baselines
+//                  nearest-gait switching and the multi-input CMACs;
 //   velocity       once per step q0_d(n+1) = q0_d(n) + K_P (V_d - V_M) + K_V d/dt (V_d - V_M)
 //                  (eqs. 19-20; the derivative is the change of the error over the last step
 //                  divided by t_step), clamped to [q0_d_min, q0_d_max];
@@ -19,6 +21,7 @@
 #define RABBIT_CONTROL_FUZZY_CMAC_WALKER_H_
 
 #include <cstdint>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -26,6 +29,7 @@
 #include "rabbit/control/gait_meter.h"
 #include "rabbit/control/pragmatic_rules.h"
 #include "rabbit/learn/fuzzy_cmac.h"
+#include "rabbit/learn/swing_pattern.h"
 #include "rabbit/sim/controller.h"
 
 namespace rabbit {
@@ -91,9 +95,6 @@ struct WalkerParams {
   double lift_lead = 0.10, lift_trail = 0.04, lift_ramp = 0.10, lift_release = 0.10;  // m
   bool lift_feedback = true;
   double thigh_length = 0.40, shin_length = 0.47;  // m: the model's, for the inverse kinematics
-  // Baseline: instead of blending, use only the gait of the strongest rule (nearest-gait
-  // switching).
-  bool nearest_gait = false;
   // Start: the first `warmup_steps` steps walk with the pragmatic rules `warmup` (the start
   // gait's), and the Fuzzy-CMAC takes over at the touchdown that ends them (0: from t = 0).
   int warmup_steps = 6;
@@ -110,8 +111,8 @@ struct WalkerStep {
   double v_m_used = 0.0;           // V_M given to the FIS and the velocity control (with noise)
   double d_obs = 0.0;              // perceived d_obs for the next step (with noise), m
   double q0_d = 0.0;               // desired trunk pitch for the next step, rad
-  std::vector<double> weights;     // per reference gait, summing to 1
-  std::vector<double> activation;  // per rule (normalised)
+  std::vector<double> weights;     // per reference gait, summing to 1 (empty: the pattern has none)
+  std::vector<double> activation;  // per rule (normalised; empty: the pattern has no rules)
   bool warmup = false;             // walked by the warm-up's pragmatic rules (weights not used)
 };
 
@@ -126,7 +127,12 @@ struct WalkerTrack {
 
 class FuzzyCmacWalker final : public Controller {
  public:
-  // gait_pattern is copied (its fuzzy context is per-walker state). stance_leg: in support at t=0.
+  // Any gait pattern (owned: its context is per-walker state), e.g. FuzzyCmacSwingPattern with
+  // nearest-gait switching for that baseline. It must support the walker's frame
+  // (params.thigh_frame). stance_leg: in support at t = 0. Throws std::invalid_argument.
+  FuzzyCmacWalker(const WalkerParams& params, std::unique_ptr<SwingPattern> gait_pattern,
+                  VelocityProfile velocity, int stance_leg);
+  // The chapter's walker: the Fuzzy-CMAC, copied (its fuzzy context is per-walker state).
   FuzzyCmacWalker(const WalkerParams& params, FuzzyCmac gait_pattern, VelocityProfile velocity,
                   int stance_leg);
   Vec4 Compute(const Observation& obs) override;
@@ -134,7 +140,7 @@ class FuzzyCmacWalker final : public Controller {
   const std::vector<WalkerStep>& steps() const { return steps_; }
   const std::vector<WalkerTrack>& tracking() const { return tracking_; }
   const GaitMeter& meter() const { return meter_; }
-  const FuzzyCmac& gait_pattern() const { return pattern_; }
+  const SwingPattern& gait_pattern() const { return *pattern_; }
   double q0_d() const { return q0_d_; }
   bool warming_up() const { return warming_up_; }
 
@@ -151,7 +157,7 @@ class FuzzyCmacWalker final : public Controller {
   void ApplyLift(const Observation& obs, int sw_hip, Eigen::Vector4d* ref);
 
   WalkerParams p_;
-  FuzzyCmac pattern_;
+  std::unique_ptr<SwingPattern> pattern_;
   VelocityProfile velocity_;
   GaitMeter meter_;
   PragmaticController warmup_;

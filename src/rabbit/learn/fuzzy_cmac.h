@@ -45,6 +45,8 @@ class FuzzyCmac {
   const std::vector<double>& trunk_pitches() const { return pitches_; }
 
   const TsFis& fis() const { return fis_; }
+  // The structure every CMAC of the pattern shares (input range, quantum, layers).
+  const CmacOptions& cmac_options() const { return networks_[0][0].options(); }
   // The same networks and trunk pitches with another fuzzy system (e.g. a scenario's membership
   // sets). Throws std::invalid_argument as the constructor does.
   FuzzyCmac WithFis(TsFis fis) const;

@@ -336,12 +336,14 @@ std::string VariantLabel(const std::string& variant) {
   if (variant == "main") return "main controller";
   if (variant == "pragmatic") return "pragmatic (baseline)";
   if (variant == "nearest_gait") return "nearest gait (baseline)";
+  if (variant == "multi_cmac") return "multi-input CMAC (baseline)";
   return variant;
 }
 
 std::string VariantShortLabel(const std::string& variant) {
   if (variant == "pragmatic") return "pragmatic";
   if (variant == "nearest_gait") return "nearest gait";
+  if (variant == "multi_cmac") return "multi-input CMAC";
   return VariantLabel(variant);
 }
 
@@ -360,6 +362,7 @@ std::string VariantColor(const std::string& variant) {
   if (variant == "fuzzy_cmac" || variant == "main") return "#1b9e77";
   if (variant == "pragmatic") return "#d95f02";
   if (variant == "nearest_gait") return "#7570b3";
+  if (variant == "multi_cmac") return "#e7298a";
   static const char* const kOthers[] = {"#e7298a", "#66a61e", "#a6761d", "#e6ab02"};
   size_t h = 0;
   for (char c : variant) h = h * 31 + static_cast<unsigned char>(c);

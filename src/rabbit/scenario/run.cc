@@ -6,6 +6,9 @@
 #include <cstdio>
 #include <filesystem>
 #include <limits>
+#include <memory>
+#include <stdexcept>
+#include <string>
 
 #include "rabbit/control/pragmatic_rules.h"
 #include "rabbit/io/error.h"
@@ -47,7 +50,103 @@ std::string FiringRules(const TsFis& fis, const std::vector<double>& activation)
 
 bool Measured(const StepRow& s) { return s.step.t_step > 0.0; }
 
+// Exact text of the numbers that decide a multi-input CMAC pattern: the fuzzy system (sets,
+// rules, output values), the domain and the options (hexadecimal floats: no two settings share a
+// key).
+std::string MultiCmacKey(const TsFis& fis, const MultiCmacPatternDomain& d,
+                         const MultiCmacPatternOptions& o) {
+  std::string key;
+  auto add = [&key](double v) {
+    char text[40];
+    std::snprintf(text, sizeof text, "%a ", v);
+    key += text;
+  };
+  for (const FuzzyInput& input : fis.inputs) {
+    key += input.name + (input.lock_range ? " locked " : " ");
+    add(input.min);
+    add(input.max);
+    for (const FuzzySet& set : input.sets) {
+      const Membership& m = set.membership;
+      key += std::to_string(static_cast<int>(m.shape)) + " ";
+      for (double v : {m.a, m.b, m.c, m.d}) add(v);
+    }
+  }
+  key += "| ";
+  for (const FuzzyRule& r : fis.rules) {
+    for (int a : r.antecedent) key += std::to_string(a) + " ";
+    key += "-> " + std::to_string(r.consequent) + " ";
+  }
+  for (double v : fis.output_values) add(v);
+  key += "| ";
+  key += d.thigh_frame ? "thigh " : "joint ";
+  for (double v : {d.e_min, d.e_max, d.v_m_min, d.v_m_max, d.d_obs_max}) add(v);
+  key += "| ";
+  for (int v :
+       {o.layers, o.e_width, o.v_m_width, o.d_obs_width, o.hash_table_size, o.max_iterations}) {
+    key += std::to_string(v) + " ";
+  }
+  key += std::to_string(o.hash_seed) + " ";
+  for (double v : {o.e_quantum, o.v_m_quantum, o.d_obs_quantum, o.v_m_margin, o.grid_e_step,
+                   o.grid_v_m_step, o.grid_d_obs_step, o.ridge, o.tolerance}) {
+    add(v);
+  }
+  return key;
+}
+
 }  // namespace
+
+std::shared_ptr<const MultiCmacPattern> MultiCmacPatternCache::Get(
+    const FuzzyCmac& teacher, const MultiCmacPatternDomain& domain,
+    const MultiCmacPatternOptions& options, MultiCmacTrainingSummary* summary) {
+  const std::string key = MultiCmacKey(teacher.fis(), domain, options);
+  std::shared_ptr<Entry> entry;
+  {
+    std::lock_guard<std::mutex> lock(mutex_);
+    std::shared_ptr<Entry>& slot = entries_[key];
+    if (slot == nullptr) {
+      slot = std::make_shared<Entry>();
+      order_.push_back(key);
+    }
+    entry = slot;
+    if (order_.size() > kMaxPatterns) {  // callers holding the oldest keep it alive
+      entries_.erase(order_.front());
+      order_.erase(order_.begin());
+    }
+  }
+  std::lock_guard<std::mutex> lock(entry->mutex);
+  if (entry->pattern == nullptr) {
+    MultiCmacTrainingSummary trained;
+    entry->pattern = std::make_shared<const MultiCmacPattern>(
+        TrainMultiCmacPattern(teacher, domain, options, &trained));
+    entry->summary = trained;
+    std::lock_guard<std::mutex> count(mutex_);
+    ++trainings_;
+  }
+  if (summary != nullptr) *summary = entry->summary;
+  return entry->pattern;
+}
+
+int MultiCmacPatternCache::trainings() const {
+  std::lock_guard<std::mutex> lock(mutex_);
+  return trainings_;
+}
+
+std::shared_ptr<const MultiCmacPattern> MultiCmacBaseline(const Scenario& scenario,
+                                                          const GaitLibrary& library,
+                                                          MultiCmacTrainingSummary* summary) {
+  try {
+    const FuzzyCmac teacher =
+        scenario.fis ? library.pattern.WithFis(*scenario.fis) : library.pattern;
+    std::vector<double> velocities;
+    for (const GaitRecord& g : library.gaits) velocities.push_back(g.measured.v_m);
+    const MultiCmacPatternDomain domain =
+        TeacherDomain(teacher, velocities, scenario.walker.thigh_frame, scenario.walker.d_obs_max,
+                      scenario.multi_cmac.v_m_margin);
+    return library.multi_cmac->Get(teacher, domain, scenario.multi_cmac, summary);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(scenario.file, 0, "controller.multi_cmac", e.what());
+  }
+}
 
 std::shared_ptr<const GaitLibrary> LoadGaitLibrary(const GaitPatternFiles& files) {
   namespace fs = std::filesystem;
@@ -114,20 +213,33 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
   out.family = scenario.family;
   const Model model(scenario.model);
   const SimSetup setup = MakeSimSetup(scenario, &model);
-  const bool walker = variant == "fuzzy_cmac" || variant == "nearest_gait";
+  const bool walker =
+      variant == "fuzzy_cmac" || variant == "nearest_gait" || variant == "multi_cmac";
   if ((walker || scenario.controller == ControllerKind::kFuzzyCmac) && library == nullptr) {
     throw std::invalid_argument("RunScenario: walker scenarios need their gait library");
   }
+  std::size_t pattern_memory = 0;
   if (walker) {
     WalkerParams params = scenario.walker;
-    params.nearest_gait = variant == "nearest_gait";
     params.log_every = scenario.options.record_every;
-    FuzzyCmacWalker controller(
-        params, scenario.fis ? library->pattern.WithFis(*scenario.fis) : library->pattern,
-        scenario.velocity, 0);
+    std::unique_ptr<SwingPattern> pattern;
+    if (variant == "multi_cmac") {
+      pattern = std::make_unique<MultiCmacSwingPattern>(MultiCmacBaseline(scenario, *library));
+    } else {
+      pattern = std::make_unique<FuzzyCmacSwingPattern>(
+          scenario.fis ? library->pattern.WithFis(*scenario.fis) : library->pattern,
+          variant == "nearest_gait");
+    }
+    pattern_memory = pattern->MemoryBytes();
+    FuzzyCmacWalker controller(params, std::move(pattern), scenario.velocity, 0);
     out.sim = Simulate(setup, scenario.q0, scenario.qd0, &controller);
+    // A pattern without per-gait weights (multi_cmac) reports NaN weights, so that steps.csv has
+    // the columns of the other variants.
+    const std::vector<double> no_weights(library->gait_names.size(),
+                                         std::numeric_limits<double>::quiet_NaN());
     for (const WalkerStep& w : controller.steps()) {
-      out.steps.push_back({w.step, w.v_d, w.v_m_used, w.d_obs, w.q0_d, w.weights,
+      out.steps.push_back({w.step, w.v_d, w.v_m_used, w.d_obs, w.q0_d,
+                           w.weights.empty() ? no_weights : w.weights,
                            FiringRules(library->pattern.fis(), w.activation), w.warmup});
     }
     out.tracking = controller.tracking();
@@ -154,8 +266,7 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     out.sim = Simulate(setup, scenario.q0, scenario.qd0, controller.get());
   }
   out.metrics = ComputeMetrics(scenario, model, out.sim, out.steps);
-  // The gait pattern's memory (its CMACs' weights); the pragmatic rules hold none.
-  if (walker) out.metrics.pattern_memory_bytes = library->pattern.MemoryBytes();
+  out.metrics.pattern_memory_bytes = pattern_memory;
   EvaluateCriteria(scenario, &out);
   out.wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;

@@ -473,6 +473,52 @@ void ReadMembershipSets(TomlReader sets, const TsFis& fll, Scenario* s) {
   s->fis = std::move(fis);
 }
 
+// [controller.multi_cmac]: the multi_cmac baseline's settings (MultiCmacPatternOptions; angles in
+// degrees here).
+MultiCmacPatternOptions ReadMultiCmac(TomlReader t) {
+  MultiCmacPatternOptions o;
+  constexpr long kMaxWidth = 1 << 20;
+  o.layers = static_cast<int>(t.Integer("layers", o.layers, 1, kMaxCmacLayers));
+  o.e_quantum = t.Double("e_quantum_deg", o.e_quantum / kDeg) * kDeg;
+  o.e_width = static_cast<int>(t.Integer("e_width", o.e_width, 1, kMaxWidth));
+  o.v_m_quantum = t.Double("v_m_quantum", o.v_m_quantum);
+  o.v_m_width = static_cast<int>(t.Integer("v_m_width", o.v_m_width, 1, kMaxWidth));
+  o.d_obs_quantum = t.Double("d_obs_quantum", o.d_obs_quantum);
+  o.d_obs_width = static_cast<int>(t.Integer("d_obs_width", o.d_obs_width, 1, kMaxWidth));
+  o.hash_table_size =
+      static_cast<int>(t.Integer("hash_table_size", o.hash_table_size, 1, kMaxMultiCmacTable));
+  o.hash_seed = static_cast<std::uint64_t>(
+      t.Integer("hash_seed", static_cast<long>(o.hash_seed), 0, std::numeric_limits<long>::max()));
+  o.v_m_margin = t.Double("v_m_margin", o.v_m_margin);
+  o.grid_e_step = t.Double("grid_e_step_deg", o.grid_e_step / kDeg) * kDeg;
+  o.grid_v_m_step = t.Double("grid_v_m_step", o.grid_v_m_step);
+  o.grid_d_obs_step = t.Double("grid_d_obs_step", o.grid_d_obs_step);
+  o.ridge = t.Double("ridge", o.ridge);
+  o.tolerance = t.Double("tolerance", o.tolerance);
+  o.max_iterations = static_cast<int>(t.Integer("max_iterations", o.max_iterations, 1, 100000));
+  t.Finish();
+  for (const auto& [key, value] : {std::pair<const char*, double>{"e_quantum_deg", o.e_quantum},
+                                   {"v_m_quantum", o.v_m_quantum},
+                                   {"d_obs_quantum", o.d_obs_quantum},
+                                   {"grid_e_step_deg", o.grid_e_step},
+                                   {"grid_v_m_step", o.grid_v_m_step},
+                                   {"grid_d_obs_step", o.grid_d_obs_step},
+                                   {"ridge", o.ridge}}) {
+    if (!(value > 0.0)) t.Fail(key, "must be > 0");
+  }
+  if (!(o.tolerance > 0.0 && o.tolerance < 1.0)) t.Fail("tolerance", "must be in (0, 1)");
+  if (o.v_m_margin < 0.0) t.Fail("v_m_margin", "must be >= 0");
+  for (const auto& [key, width] : {std::pair<const char*, int>{"e_width", o.e_width},
+                                   {"v_m_width", o.v_m_width},
+                                   {"d_obs_width", o.d_obs_width}}) {
+    if (width < o.layers) {
+      t.Fail(key, "must be >= layers (" + std::to_string(o.layers) + "): offsets would repeat");
+    }
+  }
+  Validate(t, o);
+  return o;
+}
+
 // type = "fuzzy_cmac": the chapter's walker (see FuzzyCmacWalker). Reads the gait database to
 // choose the start gait; the walk starts from its documented walking start.
 void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
@@ -539,14 +585,15 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
   s->baselines = t->Strings("baselines", {});
   for (size_t i = 0; i < s->baselines.size(); ++i) {
     const std::string& b = s->baselines[i];
-    if (b != "pragmatic" && b != "nearest_gait") {
-      t->Fail("baselines",
-              "unknown baseline \"" + b + "\" (expected \"pragmatic\" or \"nearest_gait\")");
+    if (b != "pragmatic" && b != "nearest_gait" && b != "multi_cmac") {
+      t->Fail("baselines", "unknown baseline \"" + b +
+                               "\" (expected \"pragmatic\", \"nearest_gait\" or \"multi_cmac\")");
     }
     for (size_t j = 0; j < i; ++j) {
       if (s->baselines[j] == b) t->Fail("baselines", "\"" + b + "\" listed twice");
     }
   }
+  s->multi_cmac = ReadMultiCmac(t->Table("multi_cmac"));
   t->Finish();
   // The start gait's pitch (the default q0_d_initial) is clamped into the range; a given one must
   // lie in it.

@@ -16,6 +16,7 @@
 #include "rabbit/control/basic_controllers.h"
 #include "rabbit/control/fuzzy_cmac_walker.h"
 #include "rabbit/gait/gait_walk.h"
+#include "rabbit/learn/multi_cmac_pattern.h"
 #include "rabbit/model/params.h"
 #include "rabbit/sim/simulator.h"
 
@@ -67,7 +68,8 @@ struct Scenario {
   GaitSpec walking;              // kPragmatic: the rules and the documented walking start
   std::string expected_outcome;  // empty: any outcome passes
   // kFuzzyCmac: the walker, its files, the gait it starts from (its documented walking start and
-  // pragmatic warm-up), and the baselines to run beside it ("pragmatic", "nearest_gait").
+  // pragmatic warm-up), and the baselines to run beside it ("pragmatic", "nearest_gait",
+  // "multi_cmac").
   WalkerParams walker;
   GaitPatternFiles pattern;
   // The gait pattern's fuzzy system when [controller.sets] changes the FLL file's membership
@@ -75,6 +77,8 @@ struct Scenario {
   std::optional<TsFis> fis;
   std::string start_gait;
   std::vector<std::string> baselines;
+  // The multi_cmac baseline's settings ([controller.multi_cmac]).
+  MultiCmacPatternOptions multi_cmac;
   // The desired velocity V_d(t) (for every walking controller; the baselines only report it).
   VelocityProfile velocity;
   bool has_velocity = false;  // the file gave one (else V_d is not reported: nan)
