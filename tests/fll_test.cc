@@ -168,7 +168,7 @@ Agreement Compare(const TsFis& fis, fl::Engine* engine,
 
 TEST(FllTest, ShippedGaitPatternIsTheDefaultOfTheShippedGaits) {
   const std::vector<double> velocities = ReferenceVelocities();
-  ASSERT_EQ(velocities.size(), 5u);
+  ASSERT_EQ(velocities.size(), 8u);  // vm_0.30 ... vm_1.00
   const TsFis expected = DefaultGaitPattern(velocities);
   const TsFis loaded = LoadFll(kShippedFll);
   ExpectSameFis(loaded, expected);
