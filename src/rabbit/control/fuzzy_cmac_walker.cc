@@ -169,9 +169,9 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params, FuzzyCmac gait_patt
   }
   if (!p_.rule_share.empty() && (p_.rule_share.size() != pattern_.gait_weights().size() ||
                                  p_.gait_rules.size() != p_.rule_share.size())) {
-    throw std::invalid_argument("walker: rule_share needs one factor and the rules of each of the " +
-                                std::to_string(pattern_.gait_weights().size()) +
-                                " reference gaits");
+    throw std::invalid_argument(
+        "walker: rule_share needs one factor and the rules of each of the " +
+        std::to_string(pattern_.gait_weights().size()) + " reference gaits");
   }
   rule_states_.resize(p_.gait_rules.size());
 }
