@@ -168,7 +168,7 @@ Agreement Compare(const TsFis& fis, fl::Engine* engine,
 
 TEST(FllTest, ShippedGaitPatternIsTheDefaultOfTheShippedGaits) {
   const std::vector<double> velocities = ReferenceVelocities();
-  ASSERT_EQ(velocities.size(), 5u);
+  ASSERT_EQ(velocities.size(), 8u);  // vm_0.30 ... vm_1.00
   const TsFis expected = DefaultGaitPattern(velocities);
   const TsFis loaded = LoadFll(kShippedFll);
   ExpectSameFis(loaded, expected);
@@ -433,27 +433,27 @@ TEST(FllTest, MalformedFllIsRefusedAtItsLine) {
 TEST(FllTest, UnsupportedOrWrongContentIsRefusedAtItsLine) {
   // Rules.
   ExpectRefused(
-      Tampered("if V_M is Small and d_obs is Big then", "if V_M is Bogus and d_obs is Big then"),
+      Tampered("if V_M is V2 and d_obs is Big then", "if V_M is Bogus and d_obs is Big then"),
       "rule",
       "rule 'if V_M is Bogus and d_obs is Big then gait is O2': [syntax error] "
       "antecedent expected hedge or term, but found <Bogus>");
   ExpectRefused(
-      Tampered("if V_M is Small and d_obs is Big then", "if speed is Small and d_obs is Big then"),
+      Tampered("if V_M is V2 and d_obs is Big then", "if speed is V2 and d_obs is Big then"),
       "rule", "found <speed>");
   ExpectRefused(Tampered("then gait is O3\n", "then gait is O9\n"), "rule", "O9");
-  ExpectRefused(Tampered("if V_M is Small and d_obs is Big", "if V_M is Small or d_obs is Big"),
+  ExpectRefused(Tampered("if V_M is V2 and d_obs is Big", "if V_M is V2 or d_obs is Big"),
                 "rule", "only 'and' is supported in antecedents, found 'or'");
   ExpectRefused(
-      Tampered("if V_M is Small and d_obs is Big", "if V_M is very Small and d_obs is Big"), "rule",
+      Tampered("if V_M is V2 and d_obs is Big", "if V_M is very V2 and d_obs is Big"), "rule",
       "hedges ('very') are not supported");
   ExpectRefused(
-      Tampered("if V_M is Small and d_obs is Big", "if V_M is not Small and d_obs is Big"), "rule",
+      Tampered("if V_M is V2 and d_obs is Big", "if V_M is not V2 and d_obs is Big"), "rule",
       "hedges ('not') are not supported");
   ExpectRefused(Tampered("d_obs is Big then gait is O2", "d_obs is Big then gait is O2 with 0.5"),
                 "rule", "rule weights ('with') are not supported");
-  ExpectRefused(Tampered("if V_M is Small and d_obs is Big", "if V_M is Small"), "rule",
+  ExpectRefused(Tampered("if V_M is V2 and d_obs is Big", "if V_M is V2"), "rule",
                 "does not name input 'd_obs'");
-  ExpectRefused(Tampered("if V_M is Small and d_obs is Big", "if V_M is Small and V_M is Big"),
+  ExpectRefused(Tampered("if V_M is V2 and d_obs is Big", "if V_M is V2 and V_M is V3"),
                 "rule", "names input 'V_M' twice");
   // Terms.
   ExpectRefused(Tampered("term: Medium Triangle 0.15 0.3 0.45", "term: Medium Bell 0.3 0.1 2"),
@@ -533,7 +533,7 @@ TEST(FllTest, FuzzRegressionsAreInputErrors) {
 
 TEST(FllTest, InvalidSystemsAreNotWritten) {
   TsFis fis = LoadFll(kShippedFll);
-  fis.rules[3].consequent = 7;
+  fis.rules[3].consequent = 8;  // O9 of eight gaits
   EXPECT_THROW(ToFll(fis), std::invalid_argument);
   EXPECT_THROW(MakeFuzzyliteEngine(fis), std::invalid_argument);
 }

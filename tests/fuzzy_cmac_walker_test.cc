@@ -10,6 +10,7 @@
 #include <memory>
 #include <utility>
 #include <vector>
+#include <stdexcept>
 
 #include "rabbit/learn/ts_fis.h"
 
@@ -210,6 +211,62 @@ TEST(FuzzyCmacWalkerTest, NearestGaitSwitchingKeepsOneGait) {
   const std::vector<double>& w = switched.steps()[1].weights;
   EXPECT_EQ(w[3] + w[4], 1.0);
   EXPECT_TRUE(w[3] == 1.0 || w[4] == 1.0);
+}
+
+// Rule share (README design note 28): gait 3 alone (weight 1) with share r gives the swing
+// (1 - r) PD + r (its rules' torques), and the stance knee the mix of the walker's and the gait's
+// gains. At t = 0.1 s of the swing the rules' hip is in its pulse and the knee free; once the
+// thighs open past qr1_dsw, the hip locks with the gait's PD.
+TEST(FuzzyCmacWalkerTest, RuleShareMixesTrackingAndTheGaitsOwnRules) {
+  WalkerParams p;
+  p.warmup_steps = 0;
+  p.v_m_initial = 0.6;  // gait 3 alone
+  p.thigh_frame = false;
+  PragmaticParams rules;
+  rules.pulse_torque = 40.0;
+  rules.pulse_start = 0.0;
+  rules.pulse_duration = 0.3;
+  rules.qr1_dsw = 0.2;
+  rules.qi2_dsw = -0.5;  // the swing knee (-0.3) has not flexed past it: free
+  rules.hip_kp = 600.0;
+  rules.hip_kd = 30.0;
+  rules.knee_kp = 120.0;
+  rules.knee_kd = 6.0;
+  p.gait_rules.assign(5, rules);
+  VelocityProfile v;
+  for (double r : {0.0, 0.25, 1.0}) {
+    p.rule_share = {0.0, 0.0, r, 0.0, 0.0};
+    FuzzyCmacWalker walker(p, ConstantPattern(), v, 0);
+    Observation obs = Standing(0.1, true, false, 0.0, -0.2);
+    obs.q[kQ21] = 0.1;  // qr1 = q21 - q11 = -0.1 < qr1_dsw: the hip is not locked
+    const Vec4 tau = walker.Compute(obs);
+    const Vec7& q = obs.q;
+    const Vec7& qd = obs.qd;
+    const double hip_pd = p.hip_kp * (0.3 - q[kQ21]) + p.hip_kd * (1.5 - qd[kQ21]);
+    const double knee_pd = p.knee_kp * (-0.15 - q[kQ22]) + p.knee_kd * (-0.6 - qd[kQ22]);
+    EXPECT_NEAR(tau[2], (1.0 - r) * hip_pd + r * 40.0, 1e-9) << "r = " << r;
+    EXPECT_NEAR(tau[3], (1.0 - r) * knee_pd, 1e-9) << "r = " << r;
+    const double kp = (1.0 - r) * p.stance_knee_kp + r * 120.0;
+    const double kd = (1.0 - r) * p.stance_knee_kd + r * 6.0;
+    EXPECT_NEAR(tau[1], -kp * q[kQ12] - kd * qd[kQ12], 1e-9) << "r = " << r;
+    // The thighs open past qr1_dsw: the rules lock the hip there (and the knee with it).
+    obs.t = 0.101;
+    obs.q[kQ21] = 0.5;  // qr1 = 0.5 - 0.2 = 0.3 > qr1_dsw
+    const Vec4 locked = walker.Compute(obs);
+    const double qr1_rate = qd[kQ21] - qd[kQ11];
+    const double hip_lock = 600.0 * (0.2 - 0.3) - 30.0 * qr1_rate;
+    const double knee_lock = 120.0 * (-0.5 - q[kQ22]) - 6.0 * qd[kQ22];
+    const double hip_pd2 = p.hip_kp * (0.3 - 0.5) + p.hip_kd * (1.5 - qd[kQ21]);
+    EXPECT_NEAR(locked[2], (1.0 - r) * hip_pd2 + r * hip_lock, 1e-9) << "r = " << r;
+    EXPECT_NEAR(locked[3], (1.0 - r) * knee_pd + r * knee_lock, 1e-9) << "r = " << r;
+  }
+  // One factor per gait, each in [0, 1], and the rules of every gait.
+  p.rule_share = {0.0, 0.0, 1.5, 0.0, 0.0};
+  std::string error;
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("rule_share"), std::string::npos) << error;
+  p.rule_share = {1.0, 1.0};
+  EXPECT_THROW(FuzzyCmacWalker(p, ConstantPattern(), v, 0), std::invalid_argument);
 }
 
 TEST(FuzzyCmacWalkerTest, VelocityControlOfEquations19And20) {

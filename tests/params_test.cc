@@ -92,7 +92,7 @@ TEST_F(ParamsTest, OverlayReachesEveryScenarioDefaultsAndArrayElements) {
       "\"controller.k_p\" = 0.31\n"             // written in the suite's [defaults]
       "\"controller.lift_clearance\" = 0.07\n"  // not written: its default
       "\"controller.sets.d_obs.Small.2\" = 0.12\n"
-      "\"controller.sets.V_M.VerySmall.1\" = 0.5\n"  // Ramp start end, as the FLL writes it
+      "\"controller.sets.V_M.V1.1\" = 0.5\n"  // Ramp start end, as the FLL writes it
       "\"noise.v_m_std\" = 0.01\n");
   const Suite tuned = LoadSuite(suite, &o);
   ASSERT_EQ(tuned.scenarios.size(), base.scenarios.size());
@@ -111,11 +111,11 @@ TEST_F(ParamsTest, OverlayReachesEveryScenarioDefaultsAndArrayElements) {
     EXPECT_DOUBLE_EQ(d_obs.sets[1].membership.a, 0.0);
     EXPECT_DOUBLE_EQ(d_obs.sets[1].membership.b, 0.12);
     EXPECT_DOUBLE_EQ(d_obs.sets[1].membership.c, 0.3);
-    // V_M VerySmall is "Ramp 0.491471 0.389872" (falling): its start becomes 0.5.
+    // V_M V1 (of eight gaits) is "Ramp 0.389872 0.303121" (falling): its start becomes 0.5.
     const Membership& vs = s.fis->inputs[0].sets[0].membership;
     EXPECT_EQ(vs.shape, Membership::Shape::kRampDown);
     EXPECT_DOUBLE_EQ(vs.b, 0.5);
-    EXPECT_DOUBLE_EQ(vs.a, 0.389872);
+    EXPECT_DOUBLE_EQ(vs.a, 0.303121);
   }
   // An element of an array the suite writes: the obstacle of scenario "obstacle" moves, the
   // family's members keep their drawn positions' other keys.

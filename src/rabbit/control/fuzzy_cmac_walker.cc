@@ -114,6 +114,20 @@ bool WalkerParams::IsValid(std::string* error) const {
     *error = "fis_v_lead must be in [0, 2]";
     return false;
   }
+  for (double r : rule_share) {
+    if (!(std::isfinite(r) && r >= 0.0 && r <= 1.0)) {
+      *error = "rule_share: every factor must be in [0, 1]";
+      return false;
+    }
+  }
+  if (!rule_share.empty()) {
+    for (const PragmaticParams& rules : gait_rules) {
+      if (!rules.IsValid(error)) {
+        *error = "reference gait rules: " + *error;
+        return false;
+      }
+    }
+  }
   if (v_m_average_steps < 1 || v_m_average_steps > 100) {
     *error = "v_m_average_steps must be in [1, 100]";
     return false;
@@ -164,6 +178,13 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
   if (!p_.thigh_frame && !pattern_->Supports(false)) {
     throw std::invalid_argument("walker: the gait pattern was learnt in the thigh frame");
   }
+  if (!p_.rule_share.empty() && (p_.rule_share.size() != pattern_->GaitWeights().size() ||
+                                 p_.gait_rules.size() != p_.rule_share.size())) {
+    throw std::invalid_argument(
+        "walker: rule_share needs one factor and the rules of each of the " +
+        std::to_string(pattern_->GaitWeights().size()) + " reference gaits");
+  }
+  rule_states_.resize(p_.gait_rules.size());
 }
 
 // Standard normal deviate from splitmix64 and Box-Muller: the same numbers on every platform
@@ -294,6 +315,41 @@ void FuzzyCmacWalker::ApplyLift(const Observation& obs, int sw_hip, Eigen::Vecto
   r[3] += rate[1];
 }
 
+Eigen::Vector2d FuzzyCmacWalker::RuleTorques(const Observation& obs, double* share) {
+  const int st_hip = 3 + 2 * stance_, sw_hip = 3 + 2 * (1 - stance_);
+  const Vec7& q = obs.q;
+  const Vec7& qd = obs.qd;
+  const double qr1 = q[sw_hip] - q[st_hip], qr1_rate = qd[sw_hip] - qd[st_hip];
+  const double knee = q[sw_hip + 1], knee_rate = qd[sw_hip + 1];
+  const double phase = obs.t - swing_start_;
+  const std::vector<double>& w = pattern_->GaitWeights();
+  Eigen::Vector2d tau = Eigen::Vector2d::Zero();
+  *share = 0.0;
+  for (size_t k = 0; k < p_.rule_share.size() && k < w.size(); ++k) {
+    // The rule state follows the measured swing for every gait, weighted or not, so that a gait
+    // that gains weight mid-swing is in its right phase.
+    const PragmaticParams& r = p_.gait_rules[k];
+    RuleState& s = rule_states_[k];
+    if (!s.hip_locked && qr1 > r.qr1_dsw) s.hip_locked = true;
+    if (knee < r.qi2_dsw) s.knee_flexed = true;
+    if (!s.knee_locked && ((s.knee_flexed && knee >= r.qi2_dsw) || s.hip_locked)) {
+      s.knee_locked = true;
+    }
+    const double wr = w[k] * p_.rule_share[k];
+    if (wr == 0.0) continue;
+    *share += wr;
+    double hip = 0.0, knee_tau = 0.0;
+    if (s.hip_locked) {
+      hip = r.hip_kp * (r.qr1_dsw - qr1) - r.hip_kd * qr1_rate;
+    } else if (phase > r.pulse_start && phase < r.pulse_start + r.pulse_duration) {
+      hip = r.pulse_torque;
+    }
+    if (s.knee_locked) knee_tau = r.knee_kp * (r.qi2_dsw - knee) - r.knee_kd * knee_rate;
+    tau += wr * Eigen::Vector2d(hip, knee_tau);
+  }
+  return tau;
+}
+
 Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   if (periods_ == 0) {
     // The first step's context: the assumed V_M and the obstacle ahead of the stance foot.
@@ -303,6 +359,8 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   if (meter_.Update(obs) && meter_.last_step().leg == swing &&
       obs.foot_pos[swing].x() > obs.foot_pos[stance_].x()) {
     stance_ = swing;
+    swing_start_ = obs.t;
+    std::fill(rule_states_.begin(), rule_states_.end(), RuleState{});
     if (warming_up_ && static_cast<int>(meter_.steps().size()) >= p_.warmup_steps) {
       warming_up_ = false;
     }
@@ -341,9 +399,24 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     lift_t_ = -1.0;
   }
   Vec4 tau;
-  tau[2 * sw] = p_.hip_kp * (ref[0] - q[sw_hip]) + p_.hip_kd * (ref[2] - qd[sw_hip]);
-  tau[2 * sw + 1] = p_.knee_kp * (ref[1] - q[sw_hip + 1]) + p_.knee_kd * (ref[3] - qd[sw_hip + 1]);
-  tau[2 * st + 1] = -p_.stance_knee_kp * q[st_hip + 1] - p_.stance_knee_kd * qd[st_hip + 1];
+  double share = 0.0;
+  Eigen::Vector2d rules = Eigen::Vector2d::Zero();
+  if (!p_.rule_share.empty()) rules = RuleTorques(obs, &share);
+  tau[2 * sw] = rules[0] + (1.0 - share) * (p_.hip_kp * (ref[0] - q[sw_hip]) +
+                                            p_.hip_kd * (ref[2] - qd[sw_hip]));
+  tau[2 * sw + 1] = rules[1] + (1.0 - share) * (p_.knee_kp * (ref[1] - q[sw_hip + 1]) +
+                                                p_.knee_kd * (ref[3] - qd[sw_hip + 1]));
+  double knee_kp = p_.stance_knee_kp, knee_kd = p_.stance_knee_kd;
+  if (share > 0.0) {
+    const std::vector<double>& w = pattern_->GaitWeights();
+    knee_kp *= 1.0 - share;
+    knee_kd *= 1.0 - share;
+    for (size_t k = 0; k < p_.rule_share.size() && k < w.size(); ++k) {
+      knee_kp += w[k] * p_.rule_share[k] * p_.gait_rules[k].knee_kp;
+      knee_kd += w[k] * p_.rule_share[k] * p_.gait_rules[k].knee_kd;
+    }
+  }
+  tau[2 * st + 1] = -knee_kp * q[st_hip + 1] - knee_kd * qd[st_hip + 1];
   tau[2 * st] = p_.trunk_kp * (q0_d_ - q[kQ0]) - p_.trunk_kd * qd[kQ0];
   if (!tau.allFinite()) tau.setZero();  // NaN measurements: no torque (the run reports the fall)
   if (p_.log_every > 0 && periods_ % p_.log_every == 0) {

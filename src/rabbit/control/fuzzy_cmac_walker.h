@@ -70,6 +70,18 @@ struct WalkerParams {
   // a lead the gait pattern moves toward the gait of the desired velocity before the trunk pitch
   // has brought V_M there (the fast gaits' longer steps are what makes the robot fast).
   double fis_v_lead = 0.0;
+  // Rule share (beyond the chapter; empty or all 0: the chapter's walker): one factor r_k in
+  // [0, 1] per reference gait, in the gait pattern's order. Gait k's part of the swing and of the
+  // stance knee is walked by (1 - r_k) the PD tracking above and r_k the gait's own pragmatic
+  // rules (gait_rules; eqs. 14-15, 17-18: hip pulse, passive swing and lock, knee free then
+  // locked, stance knee at the gait's gains). With the fuzzy weights w_k:
+  //   tau_swing = (1 - sum_k w_k r_k) PD + sum_k w_k r_k tau_rules_k,
+  //   stance knee gains = sum_k w_k ((1 - r_k) stance_knee_kp + r_k knee_kp_k) (kd alike).
+  // The fast gaits use the motors' whole torque and speed range on a compliant stance knee, which
+  // PD tracking cannot reproduce (README, design notes): they are walked by their rules.
+  std::vector<double> rule_share;
+  // Per reference gait, in the gait pattern's order (filled from the gait database, not a key).
+  std::vector<PragmaticParams> gait_rules;
   // Perception.
   double d_obs_max = 1.0;    // m: d_obs saturates here (>= 0.5 m means no obstacle to the FIS)
   double v_m_noise = 0.0;    // m/s, standard deviation of the noise on V_M
@@ -155,6 +167,8 @@ class FuzzyCmacWalker final : public Controller {
   double LiftHeight(const Terrain& terrain, double foot_x) const;
   // Adds the foot lift to the swing references ref (hip, knee, rates).
   void ApplyLift(const Observation& obs, int sw_hip, Eigen::Vector4d* ref);
+  // sum_k w_k r_k tau_rules_k for the swing (hip, knee), and sum_k w_k r_k (rule_share).
+  Eigen::Vector2d RuleTorques(const Observation& obs, double* share);
 
   WalkerParams p_;
   std::unique_ptr<SwingPattern> pattern_;
@@ -173,6 +187,12 @@ class FuzzyCmacWalker final : public Controller {
   bool lift_armed_ = false;                               // set at each touchdown
   Eigen::Vector2d lift_delta_ = Eigen::Vector2d::Zero();  // last lift (hip, knee), rad
   double lift_t_ = -1.0;                                  // its time (-1: none)
+  // Rule share: the swing phase's start and each gait's rule state in it.
+  struct RuleState {
+    bool hip_locked = false, knee_flexed = false, knee_locked = false;
+  };
+  double swing_start_ = 0.0;
+  std::vector<RuleState> rule_states_;
   std::vector<WalkerStep> steps_;
   std::vector<WalkerTrack> tracking_;
 };

@@ -222,8 +222,14 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
   if (walker) {
     WalkerParams params = scenario.walker;
     params.log_every = scenario.options.record_every;
+    params.gait_rules.clear();
+    for (const GaitRecord& g : library->gaits) params.gait_rules.push_back(g.spec.rules);
     std::unique_ptr<SwingPattern> pattern;
     if (variant == "multi_cmac") {
+      // The pure multi-input CMAC pattern: it has no per-gait weights to share the gaits' own
+      // rules by (rule_share), so its swing is the pattern's alone.
+      params.rule_share.clear();
+      params.gait_rules.clear();
       pattern = std::make_unique<MultiCmacSwingPattern>(MultiCmacBaseline(scenario, *library));
     } else {
       pattern = std::make_unique<FuzzyCmacSwingPattern>(
@@ -360,6 +366,25 @@ void EvaluateCriteria(const Scenario& scenario, RunOutput* run) {
                     "L_step spread %.4f m over the last %d steps (at most %.4f m)",
                     run->metrics.l_step_spread, c.spread_steps, c.max_l_step_spread);
       fail.push_back(text);
+    }
+  }
+  if (c.min_l_step > 0.0) {
+    if (static_cast<int>(measured.size()) < c.spread_steps) {
+      std::snprintf(text, sizeof text, "only %zu measured steps for the final L_step (need %d)",
+                    measured.size(), c.spread_steps);
+      fail.push_back(text);
+    } else {
+      double sum = 0.0;
+      for (size_t i = measured.size() - c.spread_steps; i < measured.size(); ++i) {
+        sum += measured[i]->step.l_step;
+      }
+      const double mean = sum / c.spread_steps;
+      if (!(mean >= c.min_l_step)) {
+        std::snprintf(text, sizeof text,
+                      "mean L_step %.3f m over the last %d steps (at least %.3f m required)", mean,
+                      c.spread_steps, c.min_l_step);
+        fail.push_back(text);
+      }
     }
   }
   if (std::isfinite(c.speed_tolerance)) {

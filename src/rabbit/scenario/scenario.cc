@@ -384,6 +384,7 @@ PassCriteria ReadCriteria(TomlReader t) {
   c.min_distance = t.Double("min_distance_m", c.min_distance);
   c.max_l_step_spread = t.Double("max_l_step_spread_m", c.max_l_step_spread);
   c.spread_steps = static_cast<int>(t.Integer("spread_steps", c.spread_steps, 1, kMaxSteps));
+  c.min_l_step = t.Double("min_l_step_m", c.min_l_step);
   c.speed_tolerance = t.Double("speed_tolerance_m_s", c.speed_tolerance);
   c.settle_steps = static_cast<int>(t.Integer("settle_steps", c.settle_steps, 0, kMaxSteps));
   c.track_up_to = t.Double("track_up_to_m_s", c.track_up_to);
@@ -393,6 +394,7 @@ PassCriteria ReadCriteria(TomlReader t) {
   t.Finish();
   for (const auto& [key, value] : {std::pair<const char*, double>{"min_distance_m", c.min_distance},
                                    {"max_l_step_spread_m", c.max_l_step_spread},
+                                   {"min_l_step_m", c.min_l_step},
                                    {"speed_tolerance_m_s", c.speed_tolerance},
                                    {"track_up_to_m_s", c.track_up_to}}) {
     if (value < 0.0) t.Fail(key, "must be >= 0");
@@ -571,6 +573,11 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
   w.v_m_average_steps =
       static_cast<int>(t->Integer("v_m_average_steps", w.v_m_average_steps, 1, 100));
   w.fis_v_lead = t->Double("fis_v_lead", w.fis_v_lead);
+  w.rule_share = t->Doubles("rule_share", w.rule_share);
+  if (!w.rule_share.empty() && w.rule_share.size() != index.size()) {
+    t->Fail("rule_share", "expected one factor per reference gait (" +
+                              std::to_string(index.size()) + " in " + f.gaits + ")");
+  }
   w.d_obs_max = t->Double("d_obs_max", w.d_obs_max);
   w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
   w.lift_clearance = t->Double("lift_clearance", w.lift_clearance);

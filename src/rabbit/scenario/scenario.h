@@ -35,6 +35,8 @@ struct PassCriteria {
   // L_step spread (max - min) over the last `spread_steps` steps.
   double max_l_step_spread = std::numeric_limits<double>::infinity();  // m
   int spread_steps = 10;
+  // The mean L_step over the same last `spread_steps` steps must be at least this (0: unchecked).
+  double min_l_step = 0.0;  // m
   // Velocity tracking: every step at least `settle_steps` steps after the last change of V_d (the
   // steps in between all saw the same V_d), with V_d <= track_up_to, has |V_M - V_d| <= tolerance.
   // V_M here is the stride velocity (mean of the step and the one before: one step of each leg).
