@@ -121,6 +121,8 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     WalkerParams params = scenario.walker;
     params.nearest_gait = variant == "nearest_gait";
     params.log_every = scenario.options.record_every;
+    params.gait_l_steps.clear();
+    for (const GaitRecord& g : library->gaits) params.gait_l_steps.push_back(g.measured.l_step);
     FuzzyCmacWalker controller(
         params, scenario.fis ? library->pattern.WithFis(*scenario.fis) : library->pattern,
         scenario.velocity, 0);
