@@ -52,7 +52,8 @@ TEST(StepPlannerTest, ApproachStepsAgainstHandComputedValues) {
   ExpectPlan(PlanStep(p, 0.78, 0.2), 2, 0.36);
   // 0.40 - 0.06 = 0.34: one step.
   ExpectPlan(PlanStep(p, 0.40, 0.2), 1, 0.34);
-  // 0.50 - 0.06 = 0.44 fits no count: one 0.44 m step (0.02 over l_max) beats 2 x 0.22 (0.06 under).
+  // 0.50 - 0.06 = 0.44 fits no count: one 0.44 m step (0.02 over l_max) beats 2 x 0.22 (0.06
+  // under).
   ExpectPlan(PlanStep(p, 0.50, 0.2), 1, 0.44);
 }
 
@@ -168,8 +169,8 @@ TEST_F(PlannerKeysTest, ReadAndValidated) {
   ASSERT_EQ(suite.scenarios.size(), 1u);
   EXPECT_TRUE(suite.scenarios[0].walker.planner.enabled);
   EXPECT_DOUBLE_EQ(suite.scenarios[0].walker.planner.margin_after, 0.12);
-  ExpectError("enabled = true\nmargin_aftr = 0.1\n", 14, "scenario[1].controller.planner.margin_aftr",
-              "unknown key");
+  ExpectError("enabled = true\nmargin_aftr = 0.1\n", 14,
+              "scenario[1].controller.planner.margin_aftr", "unknown key");
   ExpectError("enabled = \"yes\"\n", 13, "scenario[1].controller.planner.enabled", "");
   ExpectError("l_min = 0.5\n", -1, "scenario[1].controller.planner.l_min", "l_min < l_max");
   ExpectError("horizon = -1.0\n", -1, "scenario[1].controller.planner.horizon", "[0, 10]");
@@ -189,13 +190,17 @@ TEST_F(PlannerWalkTest, StepsOverObstaclesThatFailedWithoutIt) {
                         {3.735941, 0.281759, 0.047713},
                         {4.457375, 0.196723, 0.059581}};
   const std::string root = RABBIT_SOURCE_DIR;
-  std::string text = "[suite]\nname = \"walk\"\n[defaults]\nexpect_outcome = \"completed\"\n"
-                     "[defaults.simulation]\ndistance = 9.0\nduration = 40.0\nrecord_every = 50\n"
-                     "[defaults.velocity]\nvalue = 0.6\n[defaults.controller]\n"
-                     "type = \"fuzzy_cmac\"\nfll = \"" + root + "/gaits/gait_pattern.fll\"\n"
-                     "networks = \"" + root + "/gaits/networks\"\ngaits = \"" + root +
-                     "/gaits/reference\"\n[defaults.criteria]\nmin_steps_after_obstacles = 10\n"
-                     "allow_obstacle_contact = false\n";
+  std::string text =
+      "[suite]\nname = \"walk\"\n[defaults]\nexpect_outcome = \"completed\"\n"
+      "[defaults.simulation]\ndistance = 9.0\nduration = 40.0\nrecord_every = 50\n"
+      "[defaults.velocity]\nvalue = 0.6\n[defaults.controller]\n"
+      "type = \"fuzzy_cmac\"\nfll = \"" +
+      root +
+      "/gaits/gait_pattern.fll\"\n"
+      "networks = \"" +
+      root + "/gaits/networks\"\ngaits = \"" + root +
+      "/gaits/reference\"\n[defaults.criteria]\nmin_steps_after_obstacles = 10\n"
+      "allow_obstacle_contact = false\n";
   int i = 0;
   for (const Case& c : cases) {
     text += "[[scenario]]\nname = \"o" + std::to_string(i++) +

@@ -9,13 +9,18 @@
 namespace rabbit {
 
 bool StepPlannerParams::IsValid(std::string* error) const {
-  const std::pair<const char*, double> lengths[] = {
-      {"horizon", horizon},         {"margin_before", margin_before},
-      {"margin_after", margin_after}, {"l_min", l_min},
-      {"l_max", l_max},             {"l_nominal", l_nominal},
-      {"l_over_max", l_over_max},   {"bias_max", bias_max},
-      {"assumed_length", assumed_length}, {"over_lift_trail", over_lift_trail},
-      {"over_lift_release", over_lift_release}, {"hold_margin", hold_margin}};
+  const std::pair<const char*, double> lengths[] = {{"horizon", horizon},
+                                                    {"margin_before", margin_before},
+                                                    {"margin_after", margin_after},
+                                                    {"l_min", l_min},
+                                                    {"l_max", l_max},
+                                                    {"l_nominal", l_nominal},
+                                                    {"l_over_max", l_over_max},
+                                                    {"bias_max", bias_max},
+                                                    {"assumed_length", assumed_length},
+                                                    {"over_lift_trail", over_lift_trail},
+                                                    {"over_lift_release", over_lift_release},
+                                                    {"hold_margin", hold_margin}};
   for (const auto& [name, value] : lengths) {
     if (!(std::isfinite(value) && value >= 0.0 && value <= 10.0)) {
       *error = std::string("planner.") + name + " must be in [0, 10] m";
@@ -141,7 +146,8 @@ TsFis StepLengthFis(const std::vector<double>& gait_l_steps) {
   fis.output_min = 1.0;
   fis.output_max = static_cast<double>(n);
   fis.default_value = std::nan("");
-  for (size_t i = 0; i < n; ++i) fis.rules.push_back({{static_cast<int>(i)}, static_cast<int>(order[i])});
+  for (size_t i = 0; i < n; ++i)
+    fis.rules.push_back({{static_cast<int>(i)}, static_cast<int>(order[i])});
   return fis;
 }
 

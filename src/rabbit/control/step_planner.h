@@ -30,16 +30,18 @@
 namespace rabbit {
 
 struct StepPlannerParams {
-  bool enabled = true;         // false: the walker as the chapter's (Table 3 alone)
-  double horizon = 1.5;        // m: d_obs within which the planner takes over the step length
+  // false: the walker as the chapter's (Table 3 alone). The scenario key `enabled` defaults to
+  // true (scenario.cc, kPlannerEnabledByDefault); a WalkerParams built in code starts without it.
+  bool enabled = false;
+  double horizon = 1.5;         // m: d_obs within which the planner takes over the step length
   double margin_before = 0.06;  // m: the last foot's distance short of the near edge
-  double margin_after = 0.05;  // m: the step over lands this far past the far edge
+  double margin_after = 0.05;   // m: the step over lands this far past the far edge
   // Steps asked for: the range the walker realises at 0.6 m/s (the vm_0.40 gait's weights give
   // about 0.31 m, vm_0.80's about 0.49 m).
-  double l_min = 0.31;         // m: shortest approach step asked for
-  double l_max = 0.45;         // m: longest approach step asked for
-  double l_nominal = 0.36;     // m: preferred approach step (the 0.6 m/s walk's)
-  double l_over_max = 0.50;    // m: longest step over asked for
+  double l_min = 0.31;       // m: shortest approach step asked for
+  double l_max = 0.45;       // m: longest approach step asked for
+  double l_nominal = 0.36;   // m: preferred approach step (the 0.6 m/s walk's)
+  double l_over_max = 0.50;  // m: longest step over asked for
   // Step-length feedback: the fuzzy system's input is
   //   l_nominal + stretch (L_target - l_nominal) - bias,
   // bias starting at bias_initial (the walker's realised step exceeds the database L_step of the
@@ -60,8 +62,8 @@ struct StepPlannerParams {
   double over_lift_trail = 0.0;     // m
   double over_lift_release = 0.05;  // m
   double hold_margin = 0.03;        // m
-  bool use_length = true;  // perceive the obstacle's length (else assume `assumed_length`)
-  double assumed_length = 0.30;  // m
+  bool use_length = true;           // perceive the obstacle's length (else assume `assumed_length`)
+  double assumed_length = 0.30;     // m
   bool IsValid(std::string* error) const;
 };
 

@@ -499,7 +499,8 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
     // [controller.planner]: the multi-step foot placement over obstacles (step_planner.h).
     TomlReader pt = t->Table("planner");
     StepPlannerParams& pp = w.planner;
-    pp.enabled = pt.Bool("enabled", pp.enabled);
+    constexpr bool kPlannerEnabledByDefault = true;  // README "Stepping over obstacles"
+    pp.enabled = pt.Bool("enabled", kPlannerEnabledByDefault);
     pp.horizon = pt.Double("horizon", pp.horizon);
     pp.margin_before = pt.Double("margin_before", pp.margin_before);
     pp.margin_after = pt.Double("margin_after", pp.margin_after);
