@@ -130,6 +130,7 @@ class RecordingPattern final : public SwingPattern {
     contexts->push_back({v_m, d_obs});
     return true;
   }
+  bool SetGaitWeights(const std::vector<double>&) override { return false; }
   bool Supports(bool thigh_frame) const override { return thigh_frame == thigh_frame_; }
   Eigen::Vector4d Query(double) const override { return {0.2, -0.1, 1.0, -0.4}; }
   Eigen::Vector4d QueryThigh(double) const override { return {0.2, -0.1, 1.0, -0.4}; }

@@ -144,6 +144,7 @@ bool WalkerParams::IsValid(std::string* error) const {
     *error = "log_every must be >= 0";
     return false;
   }
+  if (planner.enabled && !planner.IsValid(error)) return false;
   return true;
 }
 
@@ -185,6 +186,46 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
         std::to_string(pattern_->GaitWeights().size()) + " reference gaits");
   }
   rule_states_.resize(p_.gait_rules.size());
+  if (p_.planner.enabled) {
+    if (p_.gait_l_steps.size() != pattern_->GaitWeights().size()) {
+      throw std::invalid_argument("walker: the step planner needs one L_step per reference gait");
+    }
+    step_fis_ = StepLengthFis(p_.gait_l_steps);
+    planner_bias_ = p_.planner.bias_initial;
+  }
+}
+
+StepPlan FuzzyCmacWalker::PlanNextStep(const Observation& obs, const StepRecord& step,
+                                       double front, double d_obs) {
+  const StepPlannerParams& pp = p_.planner;
+  if (planner_target_ >= 0.0 && step.t_step > 0.0) {
+    planner_bias_ = std::clamp(planner_bias_ + pp.feedback_gain * (step.l_step - planner_target_),
+                               -pp.bias_max, pp.bias_max);
+  }
+  planner_target_ = -1.0;
+  double length = 0.0;
+  for (const Obstacle& o : obs.terrain->obstacles) {
+    if (o.x_start >= front) {
+      length = o.x_end() - o.x_start;
+      break;
+    }
+  }
+  StepPlan plan = PlanStep(pp, d_obs, length);
+  double target = plan.step_length;
+  if (plan.active) {
+    recovery_left_ = plan.approach_steps == 0 ? pp.recovery_steps : 0;
+  } else if (recovery_left_ > 0) {
+    // The steps after the step over: back to the nominal step through the planner.
+    --recovery_left_;
+    target = pp.l_nominal;
+  } else {
+    return plan;
+  }
+  planner_target_ = target;
+  const double input = pp.l_nominal + pp.stretch * (target - pp.l_nominal) - planner_bias_;
+  // (Nearest-gait switching rounds them to the strongest gait in its SwingPattern.)
+  pattern_->SetGaitWeights(StepLengthWeights(step_fis_, input));
+  return plan;
 }
 
 // Standard normal deviate from splitmix64 and Box-Muller: the same numbers on every platform
@@ -228,12 +269,20 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   }
   const double front = obs.foot_pos[step.leg].x();
   double d_obs = ObstacleAhead(obs, front);
+  double d_noise = 0.0;
   if (p_.d_obs_noise > 0.0) {
-    d_obs = std::clamp(d_obs + p_.d_obs_noise * Gaussian(), 0.0, p_.d_obs_max);
+    d_noise = p_.d_obs_noise * Gaussian();
+    d_obs = std::clamp(d_obs + d_noise, 0.0, p_.d_obs_max);
   }
   SetContext(v_m_ + p_.fis_v_lead * (v_d - v_m_), d_obs);
-  // The foot lift is armed for the step over and for the trailing leg.
-  lift_armed_ = d_obs < p_.lift_d_obs;
+  StepPlan plan;
+  if (p_.planner.enabled && obs.terrain != nullptr) {
+    // The planner sees beyond d_obs_max (its horizon), with the same perception noise.
+    const double ahead = obs.terrain->DistanceToNextObstacle(front);
+    plan = PlanNextStep(obs, step, front, std::max(0.0, ahead + d_noise));
+  }
+  // The foot lift is armed for the step over (the planner's, when it plans) and the trailing leg.
+  lift_armed_ = plan.active ? plan.approach_steps == 0 : d_obs < p_.lift_d_obs;
   if (obs.terrain != nullptr) {
     const double back = obs.foot_pos[1 - step.leg].x();
     for (const Obstacle& o : obs.terrain->obstacles) {
@@ -245,6 +294,8 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   record.v_d = v_d;
   record.v_m_used = v_m_;
   record.d_obs = d_obs;
+  record.planned_steps = plan.active ? plan.approach_steps : -1;
+  record.planned_l_step = plan.step_length;
   record.q0_d = q0_d_;
   record.weights = pattern_->GaitWeights();
   record.activation = pattern_->RuleActivations();
@@ -254,12 +305,14 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
 
 double FuzzyCmacWalker::LiftHeight(const Terrain& terrain, double foot_x) const {
   double h = -std::numeric_limits<double>::infinity();
+  const double trail = p_.planner.enabled ? p_.planner.over_lift_trail : p_.lift_trail;
+  const double release = p_.planner.enabled ? p_.planner.over_lift_release : p_.lift_release;
   for (size_t i = 0; i < terrain.obstacles.size(); ++i) {
     const Obstacle& o = terrain.obstacles[i];
-    const double lo = o.x_start - p_.lift_lead, hi = o.x_end() + p_.lift_trail;
+    const double lo = o.x_start - p_.lift_lead, hi = o.x_end() + trail;
     double a = 1.0;
     if (foot_x < lo) a = p_.lift_ramp > 0.0 ? 1.0 - (lo - foot_x) / p_.lift_ramp : 0.0;
-    if (foot_x > hi) a = p_.lift_release > 0.0 ? 1.0 - (foot_x - hi) / p_.lift_release : 0.0;
+    if (foot_x > hi) a = release > 0.0 ? 1.0 - (foot_x - hi) / release : 0.0;
     a = std::clamp(a, 0.0, 1.0);
     // Above the ground the obstacle stands on (absolute heights: the hip's y is absolute).
     if (a > 0.0) {
@@ -279,11 +332,24 @@ void FuzzyCmacWalker::ApplyLift(const Observation& obs, int sw_hip, Eigen::Vecto
   if (h > -std::numeric_limits<double>::infinity()) {
     // The pattern's foot point relative to the hip (absolute thigh and shin angles).
     const double a_th = r[0] - q[kQ0], a_sh = r[0] + r[1] - q[kQ0];
-    const double px = l1 * std::sin(a_th) + l2 * std::sin(a_sh);
+    double px = l1 * std::sin(a_th) + l2 * std::sin(a_sh);
     const double py = -l1 * std::cos(a_th) - l2 * std::cos(a_sh);
-    if (q[kY] + py < h) {
+    const double px_pattern = px;
+    if (p_.planner.enabled && p_.planner.hold_margin > 0.0) {
+      // Hold a foot that is below the next obstacle's top, behind its near edge, back from it.
+      const Eigen::Vector2d& foot = obs.foot_pos[1 - stance_];
+      for (const Obstacle& o : obs.terrain->obstacles) {
+        if (foot.x() < o.x_start) {
+          if (foot.y() < o.height) {
+            px = std::min(px, o.x_start - p_.planner.hold_margin - q[kX]);
+          }
+          break;
+        }
+      }
+    }
+    if (q[kY] + py < h || px != px_pattern) {
       // Inverse kinematics of the raised point (px, h - y_hip), knee flexed (negative).
-      const double y = h - q[kY];
+      const double y = std::max(h, q[kY] + py) - q[kY];
       const double reach = std::min(std::hypot(px, y), 0.999 * (l1 + l2));
       const double c = std::clamp((reach * reach - l1 * l1 - l2 * l2) / (2 * l1 * l2), -1.0, 1.0);
       const double flex = std::acos(c);

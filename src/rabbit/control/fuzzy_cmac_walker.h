@@ -28,6 +28,7 @@
 
 #include "rabbit/control/gait_meter.h"
 #include "rabbit/control/pragmatic_rules.h"
+#include "rabbit/control/step_planner.h"
 #include "rabbit/learn/fuzzy_cmac.h"
 #include "rabbit/learn/swing_pattern.h"
 #include "rabbit/sim/controller.h"
@@ -107,6 +108,13 @@ struct WalkerParams {
   double lift_lead = 0.10, lift_trail = 0.04, lift_ramp = 0.10, lift_release = 0.10;  // m
   bool lift_feedback = true;
   double thigh_length = 0.40, shin_length = 0.47;  // m: the model's, for the inverse kinematics
+  // Multi-step foot placement over obstacles ([controller.planner], step_planner.h). When enabled,
+  // a step with an obstacle within planner.horizon takes its gait weights from the step-length
+  // fuzzy system instead of Table 3, and the foot lift is armed for the planned step over (and
+  // the trailing leg) only. gait_l_steps: the reference gaits' L_step in network order (the gait
+  // database's l_step_m; set by the scenario runner, not a key).
+  StepPlannerParams planner;
+  std::vector<double> gait_l_steps;
   // Start: the first `warmup_steps` steps walk with the pragmatic rules `warmup` (the start
   // gait's), and the Fuzzy-CMAC takes over at the touchdown that ends them (0: from t = 0).
   int warmup_steps = 6;
@@ -122,6 +130,8 @@ struct WalkerStep {
   double v_d = 0.0;                // desired velocity at the touchdown, m/s
   double v_m_used = 0.0;           // V_M given to the FIS and the velocity control (with noise)
   double d_obs = 0.0;              // perceived d_obs for the next step (with noise), m
+  int planned_steps = -1;          // planner: approach steps before the step over (-1: not planning)
+  double planned_l_step = 0.0;     // planner: target of the next step, m
   double q0_d = 0.0;               // desired trunk pitch for the next step, rad
   std::vector<double> weights;     // per reference gait, summing to 1 (empty: the pattern has none)
   std::vector<double> activation;  // per rule (normalised; empty: the pattern has no rules)
@@ -159,6 +169,10 @@ class FuzzyCmacWalker final : public Controller {
  private:
   void OnTouchdown(const Observation& obs);
   void SetContext(double v_m, double d_obs);
+  // The step planner's hook at a touchdown (front foot at x = front, perceived d_obs): sets the
+  // gait weights for the coming step when an obstacle is within the horizon.
+  StepPlan PlanNextStep(const Observation& obs, const StepRecord& step, double front,
+                        double d_obs);
   double Gaussian();
   // d_obs seen from x (no terrain: no obstacle), before noise.
   double ObstacleAhead(const Observation& obs, double x) const;
@@ -193,6 +207,10 @@ class FuzzyCmacWalker final : public Controller {
   };
   double swing_start_ = 0.0;
   std::vector<RuleState> rule_states_;
+  TsFis step_fis_;                // planner: the step-length fuzzy system (when enabled)
+  double planner_bias_ = 0.0;     // planner: realised minus asked step length, fed back (m)
+  double planner_target_ = -1.0;  // planner: the last planned step's target (-1: none)
+  int recovery_left_ = 0;         // planner: nominal steps still to take after a step over
   std::vector<WalkerStep> steps_;
   std::vector<WalkerTrack> tracking_;
 };

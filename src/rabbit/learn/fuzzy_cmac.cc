@@ -67,6 +67,18 @@ void FuzzyCmac::KeepStrongestRuleOnly() {
   weights_[static_cast<size_t>(fis_.output_values[fis_.rules[best].consequent]) - 1] = 1.0;
 }
 
+void FuzzyCmac::SetGaitWeights(const std::vector<double>& weights) {
+  if (weights.size() != weights_.size()) {
+    throw std::invalid_argument("SetGaitWeights: need one weight per reference gait");
+  }
+  for (double w : weights) {
+    if (!(std::isfinite(w) && w >= 0.0)) {
+      throw std::invalid_argument("SetGaitWeights: weights must be finite and >= 0");
+    }
+  }
+  weights_ = weights;
+}
+
 Eigen::Vector4d FuzzyCmac::Query(double e) const {
   CmacActive active;
   networks_[0][0].Active(e, &active);  // shared structure: one active set for all

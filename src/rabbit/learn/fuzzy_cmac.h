@@ -32,6 +32,10 @@ class FuzzyCmac {
   // Nearest-gait switching (a baseline): the weights become 1 for the gait of the strongest rule
   // of the last SetContext and 0 for the others (the first such rule on a tie).
   void KeepStrongestRuleOnly();
+  // Sets the per-gait weights directly (e.g. from another fuzzy system, the step planner's):
+  // one finite weight >= 0 per gait (throws std::invalid_argument otherwise); kept until the
+  // next SetContext or SetGaitWeights.
+  void SetGaitWeights(const std::vector<double>& weights);
   // The four swing-leg references at e with the current weights (eq. 13).
   Eigen::Vector4d Query(double e) const;
 

@@ -153,6 +153,7 @@ class MultiCmacSwingPattern final : public SwingPattern {
   explicit MultiCmacSwingPattern(std::shared_ptr<const MultiCmacPattern> pattern);
 
   bool SetContext(double v_m, double d_obs) override;
+  bool SetGaitWeights(const std::vector<double>&) override { return false; }  // none to set
   bool Supports(bool thigh_frame) const override {
     return thigh_frame == pattern_->domain().thigh_frame;
   }

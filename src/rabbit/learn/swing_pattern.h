@@ -12,6 +12,7 @@
 #define RABBIT_LEARN_SWING_PATTERN_H_
 
 #include <Eigen/Core>
+#include <algorithm>
 #include <cstddef>
 #include <utility>
 #include <vector>
@@ -27,6 +28,9 @@ class SwingPattern {
   // Sets the context for the coming step. Returns false (keeping the previous context) when the
   // pattern cannot use it (no fuzzy rule fires; a non-finite input).
   virtual bool SetContext(double v_m, double d_obs) = 0;
+  // Sets the per-gait weights directly, in place of the context's (the step planner's); false
+  // when the pattern has no per-gait weights (then nothing changes).
+  virtual bool SetGaitWeights(const std::vector<double>& weights) = 0;
   // Whether Query (thigh_frame false) or QueryThigh (true) may be called.
   virtual bool Supports(bool thigh_frame) const = 0;
   virtual Eigen::Vector4d Query(double e) const = 0;
@@ -51,6 +55,17 @@ class FuzzyCmacSwingPattern final : public SwingPattern {
     const bool fired = pattern_.SetContext(v_m, d_obs);  // no rule firing keeps the weights
     if (nearest_gait_) pattern_.KeepStrongestRuleOnly();
     return fired;
+  }
+  // Nearest-gait switching keeps only the largest weight (the first on a tie), as 1.
+  bool SetGaitWeights(const std::vector<double>& weights) override {
+    if (!nearest_gait_) {
+      pattern_.SetGaitWeights(weights);
+      return true;
+    }
+    std::vector<double> w(weights.size(), 0.0);
+    if (!w.empty()) w[std::max_element(weights.begin(), weights.end()) - weights.begin()] = 1.0;
+    pattern_.SetGaitWeights(w);
+    return true;
   }
   bool Supports(bool thigh_frame) const override {
     return !thigh_frame || !pattern_.trunk_pitches().empty();

@@ -224,12 +224,15 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     params.log_every = scenario.options.record_every;
     params.gait_rules.clear();
     for (const GaitRecord& g : library->gaits) params.gait_rules.push_back(g.spec.rules);
+    params.gait_l_steps.clear();
+    for (const GaitRecord& g : library->gaits) params.gait_l_steps.push_back(g.measured.l_step);
     std::unique_ptr<SwingPattern> pattern;
     if (variant == "multi_cmac") {
       // The pure multi-input CMAC pattern: it has no per-gait weights to share the gaits' own
       // rules by (rule_share), so its swing is the pattern's alone.
       params.rule_share.clear();
       params.gait_rules.clear();
+      params.planner.enabled = false;  // and no step planner (it sets per-gait weights too)
       pattern = std::make_unique<MultiCmacSwingPattern>(MultiCmacBaseline(scenario, *library));
     } else {
       pattern = std::make_unique<FuzzyCmacSwingPattern>(

@@ -589,6 +589,44 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
   w.lift_feedback = t->Bool("lift_feedback", w.lift_feedback);
   w.thigh_length = s->model.thigh_length;
   w.shin_length = s->model.shin_length;
+  {
+    // [controller.planner]: the multi-step foot placement over obstacles (step_planner.h).
+    TomlReader pt = t->Table("planner");
+    StepPlannerParams& pp = w.planner;
+    constexpr bool kPlannerEnabledByDefault = true;  // README "Stepping over obstacles"
+    pp.enabled = pt.Bool("enabled", kPlannerEnabledByDefault);
+    pp.horizon = pt.Double("horizon", pp.horizon);
+    pp.margin_before = pt.Double("margin_before", pp.margin_before);
+    pp.margin_after = pt.Double("margin_after", pp.margin_after);
+    pp.l_min = pt.Double("l_min", pp.l_min);
+    pp.l_max = pt.Double("l_max", pp.l_max);
+    pp.l_nominal = pt.Double("l_nominal", pp.l_nominal);
+    pp.l_over_max = pt.Double("l_over_max", pp.l_over_max);
+    pp.feedback_gain = pt.Double("feedback_gain", pp.feedback_gain);
+    pp.bias_initial = pt.Double("bias_initial", pp.bias_initial);
+    pp.bias_max = pt.Double("bias_max", pp.bias_max);
+    pp.recovery_steps =
+        static_cast<int>(pt.Integer("recovery_steps", pp.recovery_steps, 0, 100));
+    pp.stretch = pt.Double("stretch", pp.stretch);
+    pp.over_lift_trail = pt.Double("over_lift_trail", pp.over_lift_trail);
+    pp.over_lift_release = pt.Double("over_lift_release", pp.over_lift_release);
+    pp.hold_margin = pt.Double("hold_margin", pp.hold_margin);
+    pp.use_length = pt.Bool("use_length", pp.use_length);
+    pp.assumed_length = pt.Double("assumed_length", pp.assumed_length);
+    pt.Finish();
+    std::string planner_error;
+    if (!pp.IsValid(&planner_error)) {
+      // Name the key the message starts with ("planner.l_min ..." or "planner: need ...").
+      std::string key;
+      const std::string head = "planner.";
+      if (planner_error.rfind(head, 0) == 0) {
+        key = planner_error.substr(head.size(), planner_error.find(' ') - head.size());
+      } else if (planner_error.find("l_min") != std::string::npos) {
+        key = "l_min";
+      }
+      pt.Fail(key, planner_error);
+    }
+  }
   s->baselines = t->Strings("baselines", {});
   for (size_t i = 0; i < s->baselines.size(); ++i) {
     const std::string& b = s->baselines[i];

@@ -1,0 +1,89 @@
+// Multi-step foot placement for stepping over an obstacle (beyond the chapter; README "Stepping
+// over obstacles: the step planner", issue 7).
+//
+// At each touchdown with an obstacle's near edge within `horizon` of the front foot (d_obs), the
+// planner chooses the number n >= 0 of approach steps still to take before the step over and
+// their common length L_a so that the last foot before the obstacle lands `margin_before` short of
+// its near edge:
+//   n L_a = d_obs - margin_before,  L_a in [l_min, l_max],  n the count whose L_a is nearest
+//   l_nominal (the gait's own step) among those that fit;
+// then the step over (n = 0) from that foot is L_over = d_obs + length + margin_after, landing
+// margin_after past the far edge (clamped to l_over_max). When no n fits (d_obs - margin_before
+// below l_min but not below zero), the step over is taken at once if it can reach past the far
+// edge, else the shortest approach step. The plan is recomputed at every touchdown (receding
+// horizon), so a step that fell short or long is corrected by the next ones.
+//
+// A target step length is realised by a second zero-order TS fuzzy system (StepLengthFis) whose
+// input is the desired step length, with N_r triangles centred on the reference gaits' step
+// lengths (shoulders at both ends, a Ruspini partition): its rule weights are a linear
+// interpolation between the two gaits whose L_step bracket the target. The realised step of a
+// blend differs from the gaits' own (momentum, the velocity control's pitch), so the fuzzy
+// system's input is corrected by the step-length error fed back from the previous planned steps.
+#ifndef RABBIT_CONTROL_STEP_PLANNER_H_
+#define RABBIT_CONTROL_STEP_PLANNER_H_
+
+#include <string>
+#include <vector>
+
+#include "rabbit/learn/ts_fis.h"
+
+namespace rabbit {
+
+struct StepPlannerParams {
+  // false: the walker as the chapter's (Table 3 alone). The scenario key `enabled` defaults to
+  // true (scenario.cc, kPlannerEnabledByDefault); a WalkerParams built in code starts without it.
+  bool enabled = false;
+  double horizon = 1.5;         // m: d_obs within which the planner takes over the step length
+  double margin_before = 0.06;  // m: the last foot's distance short of the near edge
+  double margin_after = 0.05;   // m: the step over lands this far past the far edge
+  // Steps asked for: the range the walker realises at 0.6 m/s (the vm_0.40 gait's weights give
+  // about 0.31 m, vm_0.80's about 0.49 m).
+  double l_min = 0.31;       // m: shortest approach step asked for
+  double l_max = 0.45;       // m: longest approach step asked for
+  double l_nominal = 0.36;   // m: preferred approach step (the 0.6 m/s walk's)
+  double l_over_max = 0.50;  // m: longest step over asked for
+  // Step-length feedback: the fuzzy system's input is
+  //   l_nominal + stretch (L_target - l_nominal) - bias,
+  // bias starting at bias_initial (the walker's realised step exceeds the database L_step of the
+  // same blend by about 6 cm at 0.6 m/s: the vm_0.40 gait's weights give 0.31 m, not 0.24 m) and
+  // bias += feedback_gain (L_measured - L_target) after each planned step, within +-bias_max.
+  double feedback_gain = 0.5;
+  double bias_initial = 0.08;  // m
+  double bias_max = 0.15;      // m
+  double stretch = 1.0;
+  // Steps after the step over that still go through the planner at l_nominal (0: Table 3 at once).
+  int recovery_steps = 2;
+  // The foot lift while planning: it holds the foot up to over_lift_trail past the far edge and
+  // lowers it over over_lift_release (the walker's lift_trail and lift_release without the
+  // planner: 0.04 and 0.10 m, which land the step over about 0.15 m past the edge, too far to
+  // walk on from). hold_margin: a swing foot still below the obstacle's top and behind its near
+  // edge is kept this far behind the edge (its forward progress held) until it has risen, so the
+  // trailing foot that starts close to the edge goes up before it goes forward (0: off).
+  double over_lift_trail = 0.0;     // m
+  double over_lift_release = 0.05;  // m
+  double hold_margin = 0.03;        // m
+  bool use_length = true;           // perceive the obstacle's length (else assume `assumed_length`)
+  double assumed_length = 0.30;     // m
+  bool IsValid(std::string* error) const;
+};
+
+struct StepPlan {
+  bool active = false;       // an obstacle within the horizon
+  int approach_steps = 0;    // n: steps before the step over (0: this step is the step over)
+  double step_length = 0.0;  // m: the target of the coming step
+};
+
+// The plan for the coming step, given the front foot's d_obs and the obstacle's length (m).
+StepPlan PlanStep(const StepPlannerParams& p, double d_obs, double obstacle_length);
+
+// The step-length fuzzy system over the reference gaits' step lengths (any order; throws
+// std::invalid_argument unless at least two, finite, positive and distinct): input "L_step",
+// one set per gait (sorted: RampDown below the shortest, Triangles, RampUp above the longest),
+// one rule per set naming its gait's output term (O1..ON = 1..N in the given order).
+TsFis StepLengthFis(const std::vector<double>& gait_l_steps);
+// Per-gait weights (summing to 1) of the fuzzy system at step length l.
+std::vector<double> StepLengthWeights(const TsFis& fis, double l);
+
+}  // namespace rabbit
+
+#endif  // RABBIT_CONTROL_STEP_PLANNER_H_
