@@ -45,7 +45,7 @@ TEST(TuneJobsTest, EveryShippedJobLoads) {
     EXPECT_NO_THROW(LoadTuneJob(e.path().string())) << e.path();
     ++jobs;
   }
-  EXPECT_EQ(jobs, 3);
+  EXPECT_EQ(jobs, 4);  // robustness_push only loads here: its budget takes about 8 min
 }
 
 TEST(TuneJobsTest, VelocityGainsImproveTheRampTracking) { ExpectImproves("velocity_gains"); }
