@@ -71,8 +71,7 @@ double PushRecovery::Nominal(double s) const {
 
 void PushRecovery::Observe(const Observation& obs, int stance) {
   if (!p_.enabled) return;
-  v_orb_ = OrbitalVelocity(obs.q[kX] - obs.foot_pos[stance].x(), obs.qd[kX], obs.q[kY],
-                           p_.gravity);
+  v_orb_ = OrbitalVelocity(obs.q[kX] - obs.foot_pos[stance].x(), obs.qd[kX], obs.q[kY], p_.gravity);
   if (!std::isfinite(v_orb_)) v_orb_ = 0.0;
   const double s = Progress(obs.t);
   const int bin = Bin(s);

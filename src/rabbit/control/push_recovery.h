@@ -44,15 +44,15 @@ struct RecoveryParams {
   double backward_step_speed = 0.0;
   // Foot placement (rad of swing thigh per m/s of v_orb - v_nom; 0: off).
   double placement_gain = 0.0;
-  double placement_max = 0.35;    // rad, bound of the offset
-  double placement_start = 0.3;   // swing progress where the offset starts fading in
-  double placement_full = 0.7;    // ... and where it is fully applied
-  double placement_dead = 0.15;   // m/s: |v_orb - v_nom| below this is no disturbance
+  double placement_max = 0.35;   // rad, bound of the offset
+  double placement_start = 0.3;  // swing progress where the offset starts fading in
+  double placement_full = 0.7;   // ... and where it is fully applied
+  double placement_dead = 0.15;  // m/s: |v_orb - v_nom| below this is no disturbance
   // Trunk lean (rad of q0_d per m/s of v_orb - v_nom; 0: off), and its bound (rad).
   double trunk_gain = 0.0;
   double trunk_max = 0.2;
-  int nominal_steps = 4;          // undisturbed steps averaged into v_nom
-  double gravity = 9.81;          // m/s^2, for the pendulum's omega^2 = g / y_hip
+  int nominal_steps = 4;  // undisturbed steps averaged into v_nom
+  double gravity = 9.81;  // m/s^2, for the pendulum's omega^2 = g / y_hip
   bool IsValid(std::string* error) const;
 };
 
@@ -93,13 +93,13 @@ class PushRecovery {
   double Progress(double t) const;
 
   double v_orb_ = 0.0;
-  std::array<double, kPhaseBins> nominal_{};   // learnt v_orb per phase bin
-  std::array<int, kPhaseBins> learnt_{};       // steps averaged into each bin
-  std::array<double, kPhaseBins> sum_{};       // the current step's v_orb per bin ...
-  std::array<int, kPhaseBins> samples_{};      // ... and its samples
+  std::array<double, kPhaseBins> nominal_{};  // learnt v_orb per phase bin
+  std::array<int, kPhaseBins> learnt_{};      // steps averaged into each bin
+  std::array<double, kPhaseBins> sum_{};      // the current step's v_orb per bin ...
+  std::array<int, kPhaseBins> samples_{};     // ... and its samples
   bool disturbed_ = false;  // |v_orb - v_nom| beyond placement_dead in the current step
   double t_touchdown_ = -1.0;
-  double t_step_ = 0.0;     // nominal step duration (last undisturbed step)
+  double t_step_ = 0.0;  // nominal step duration (last undisturbed step)
 };
 
 }  // namespace rabbit

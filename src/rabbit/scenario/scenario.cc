@@ -437,7 +437,9 @@ void ReadMembershipSets(TomlReader sets, const TsFis& fll, Scenario* s) {
 void ReadRecovery(TomlReader r, RecoveryParams* p) {
   p->enabled = r.Bool("enabled", p->enabled);
   p->backward_step_speed = r.Double("backward_step_speed", p->backward_step_speed);
-  if (std::abs(p->backward_step_speed) > 5.0) r.Fail("backward_step_speed", "must be in [-5, 5] m/s");
+  if (std::abs(p->backward_step_speed) > 5.0) {
+    r.Fail("backward_step_speed", "must be in [-5, 5] m/s");
+  }
   const auto nonnegative = [&r](const char* key, double value, double max, const char* range) {
     const double v = r.Double(key, value);
     if (!(v >= 0.0 && v <= max)) r.Fail(key, std::string("must be in ") + range);
