@@ -117,6 +117,24 @@ TEST_F(SuiteTest, ErrorsNameTheLineInTheScenarioOrInTheDefaults) {
               "unknown key");
 }
 
+TEST_F(SuiteTest, RecoveryKeysAreChecked) {
+  const std::string head = "[[scenario]]\nname = \"a\"\n[scenario.controller.recovery]\n";
+  ExpectError(Walker(head + "placement_gain = -1\n"), 15,
+              "scenario[1].controller.recovery.placement_gain", "must be in [0, 10]");
+  ExpectError(Walker(head + "placement_max = 2\n"), 15,
+              "scenario[1].controller.recovery.placement_max", "must be in [0, 1] rad");
+  ExpectError(Walker(head + "nominal_steps = 0\n"), 15,
+              "scenario[1].controller.recovery.nominal_steps", "");
+  ExpectError(Walker(head + "backward_step_speed = 9\n"), 15,
+              "scenario[1].controller.recovery.backward_step_speed", "[-5, 5]");
+  ExpectError(Walker(head + "placment_gain = 1\n"), 15,
+              "scenario[1].controller.recovery.placment_gain", "unknown key");
+  ExpectError(Walker(head + "enabled = 1\n"), 15, "scenario[1].controller.recovery.enabled", "");
+  const Suite suite = LoadSuite(Write(Walker(head + "enabled = false\nplacement_gain = 0.4\n")));
+  EXPECT_FALSE(suite.scenarios[0].walker.recovery.enabled);
+  EXPECT_DOUBLE_EQ(suite.scenarios[0].walker.recovery.placement_gain, 0.4);
+}
+
 TEST_F(SuiteTest, BadInputOfTheIssue) {
   ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.controller]\ntype = \"fuzzy\"\n"), 15,
               "scenario[1].controller.type", "unknown controller \"fuzzy\"");

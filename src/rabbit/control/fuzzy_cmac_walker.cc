@@ -140,6 +140,7 @@ bool WalkerParams::IsValid(std::string* error) const {
     *error = "warm-up rules: " + *error;
     return false;
   }
+  if (!recovery.IsValid(error)) return false;
   if (log_every < 0) {
     *error = "log_every must be >= 0";
     return false;
@@ -165,6 +166,7 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
       pattern_(std::move(gait_pattern)),
       velocity_(std::move(velocity)),
       warmup_(params.warmup, stance_leg),
+      recovery_(params.recovery),
       warming_up_(params.warmup_steps > 0),
       stance_(stance_leg),
       q0_d_(params.q0_d_initial),
@@ -423,7 +425,8 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   }
   const int swing = 1 - stance_;
   if (meter_.Update(obs) && meter_.last_step().leg == swing &&
-      obs.foot_pos[swing].x() > obs.foot_pos[stance_].x()) {
+      (obs.foot_pos[swing].x() > obs.foot_pos[stance_].x() ||
+       recovery_.AcceptsLandingBehind(obs))) {
     stance_ = swing;
     swing_start_ = obs.t;
     std::fill(rule_states_.begin(), rule_states_.end(), RuleState{});
@@ -431,7 +434,9 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
       warming_up_ = false;
     }
     OnTouchdown(obs);
+    recovery_.OnTouchdown(obs.t, meter_.last_step().t_step);
   }
+  recovery_.Observe(obs, stance_);
   if (warming_up_) {
     const Vec4 tau = warmup_.Compute(obs);
     // The rules are in charge: their stance leg is the walker's (they exchange support on any
@@ -464,6 +469,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     lift_delta_.setZero();
     lift_t_ = -1.0;
   }
+  ref[0] += recovery_.SwingOffset(obs.t);
   Vec4 tau;
   double share = 0.0;
   Eigen::Vector2d rules = Eigen::Vector2d::Zero();
@@ -483,7 +489,8 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     }
   }
   tau[2 * st + 1] = -knee_kp * q[st_hip + 1] - knee_kd * qd[st_hip + 1];
-  tau[2 * st] = p_.trunk_kp * (q0_d_ - q[kQ0]) - p_.trunk_kd * qd[kQ0];
+  const double q0_d = q0_d_ + recovery_.TrunkOffset(obs.t);
+  tau[2 * st] = p_.trunk_kp * (q0_d - q[kQ0]) - p_.trunk_kd * qd[kQ0];
   if (!tau.allFinite()) tau.setZero();  // NaN measurements: no torque (the run reports the fall)
   if (p_.log_every > 0 && periods_ % p_.log_every == 0) {
     tracking_.push_back({obs.t, st, e, ref[0], q[sw_hip], ref[1], q[sw_hip + 1], q0_d_, q[kQ0]});

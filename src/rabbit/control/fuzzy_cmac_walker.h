@@ -29,6 +29,7 @@
 #include "rabbit/control/gait_meter.h"
 #include "rabbit/control/pragmatic_rules.h"
 #include "rabbit/control/step_planner.h"
+#include "rabbit/control/push_recovery.h"
 #include "rabbit/learn/fuzzy_cmac.h"
 #include "rabbit/learn/swing_pattern.h"
 #include "rabbit/sim/controller.h"
@@ -119,6 +120,8 @@ struct WalkerParams {
   // gait's), and the Fuzzy-CMAC takes over at the touchdown that ends them (0: from t = 0).
   int warmup_steps = 6;
   PragmaticParams warmup;
+  // Push recovery (push_recovery.h; keys of [controller.recovery]).
+  RecoveryParams recovery;
   // Keep the tracking log (references and measurements) every n-th control period (0: none).
   int log_every = 1;
   bool IsValid(std::string* error) const;
@@ -189,6 +192,7 @@ class FuzzyCmacWalker final : public Controller {
   VelocityProfile velocity_;
   GaitMeter meter_;
   PragmaticController warmup_;
+  PushRecovery recovery_;
   bool warming_up_;
   int stance_;
   double q0_d_;

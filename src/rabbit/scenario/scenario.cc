@@ -521,6 +521,34 @@ MultiCmacPatternOptions ReadMultiCmac(TomlReader t) {
   return o;
 }
 
+// [controller.recovery]: the walker's push recovery (push_recovery.h). Each key is checked here,
+// so that an error names its line and key.
+void ReadRecovery(TomlReader r, RecoveryParams* p) {
+  p->enabled = r.Bool("enabled", p->enabled);
+  p->backward_step_speed = r.Double("backward_step_speed", p->backward_step_speed);
+  if (std::abs(p->backward_step_speed) > 5.0) {
+    r.Fail("backward_step_speed", "must be in [-5, 5] m/s");
+  }
+  const auto nonnegative = [&r](const char* key, double value, double max, const char* range) {
+    const double v = r.Double(key, value);
+    if (!(v >= 0.0 && v <= max)) r.Fail(key, std::string("must be in ") + range);
+    return v;
+  };
+  p->placement_gain = nonnegative("placement_gain", p->placement_gain, 10.0, "[0, 10] rad s/m");
+  p->placement_max = nonnegative("placement_max", p->placement_max, 1.0, "[0, 1] rad");
+  p->placement_start = nonnegative("placement_start", p->placement_start, 10.0, "[0, 10]");
+  p->placement_full = nonnegative("placement_full", p->placement_full, 10.0, "[0, 10]");
+  p->placement_dead = nonnegative("placement_dead", p->placement_dead, 10.0, "[0, 10] m/s");
+  p->trunk_gain = nonnegative("trunk_gain", p->trunk_gain, 10.0, "[0, 10] rad s/m");
+  p->trunk_max = nonnegative("trunk_max", p->trunk_max, 1.0, "[0, 1] rad");
+  p->nominal_steps = static_cast<int>(r.Integer("nominal_steps", p->nominal_steps, 1, 100));
+  p->gravity = r.Double("gravity", p->gravity);
+  if (!(p->gravity > 0.0 && p->gravity <= 100.0)) r.Fail("gravity", "must be in (0, 100] m/s^2");
+  r.Finish();
+  std::string error;
+  if (!p->IsValid(&error)) r.Fail("", error);
+}
+
 // type = "fuzzy_cmac": the chapter's walker (see FuzzyCmacWalker). Reads the gait database to
 // choose the start gait; the walk starts from its documented walking start.
 void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
@@ -587,6 +615,7 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
   w.lift_ramp = t->Double("lift_ramp", w.lift_ramp);
   w.lift_release = t->Double("lift_release", w.lift_release);
   w.lift_feedback = t->Bool("lift_feedback", w.lift_feedback);
+  ReadRecovery(t->Table("recovery"), &w.recovery);
   w.thigh_length = s->model.thigh_length;
   w.shin_length = s->model.shin_length;
   {
