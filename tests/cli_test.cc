@@ -307,11 +307,12 @@ TEST_F(CliTest, RunWithTheMultiCmacBaselineWritesItsRunFolderTheSameOnOneAndTwoT
   std::stringstream steps(ReadFile(one / "second+multi_cmac" / "steps.csv"));
   std::string line;
   std::getline(steps, line);
-  EXPECT_NE(line.find(",w_O1,w_O2,w_O3,w_O4,w_O5,rules,warmup"), std::string::npos) << line;
+  EXPECT_NE(line.find(",w_O1,w_O2,w_O3,w_O4,w_O5,w_O6,w_O7,w_O8,rules,warmup"), std::string::npos)
+      << line;
   int rows = 0;
   while (std::getline(steps, line)) {
     ++rows;
-    EXPECT_NE(line.find(",nan,nan,nan,nan,nan,,"), std::string::npos) << line;
+    EXPECT_NE(line.find(",nan,nan,nan,nan,nan,nan,nan,nan,,"), std::string::npos) << line;
   }
   EXPECT_GT(rows, 6);  // past the warm-up
   // A bad setting is bad input.

@@ -83,10 +83,11 @@ TEST(MultiCmacPatternTest, ReproducesTheTeacherOnTheTrainingAndHeldOutGrids) {
   for (int o = 0; o < kGaitOutputs; ++o) {
     EXPECT_NEAR(train.rms[o], summary.rms[o], kSame * summary.rms[o]) << kOutputs[o];
   }
-  // Stated tolerances on the training grid (measured: 2.45 and 3.38 deg, 14.0 and 23.8 deg/s):
-  // hashing 33,111 detectors into 2^16 slots and the three-input tiles cost degrees, where the
-  // SISO CMACs reach their gaits to well under a degree.
-  const Eigen::Vector4d kTrainRms(3.0 * kDeg, 4.0 * kDeg, 17.0 * kDeg, 28.0 * kDeg);
+  // Stated tolerances on the training grid (measured on the eight shipped gaits: 3.22 and 4.24
+  // deg, 33.8 and 49.3 deg/s; on the earlier five, 2.45, 3.38, 14.0, 23.8): hashing the detectors
+  // into 2^16 slots and the three-input tiles cost degrees, where the SISO CMACs reach their
+  // gaits to well under a degree.
+  const Eigen::Vector4d kTrainRms(4.0 * kDeg, 5.0 * kDeg, 40.0 * kDeg, 60.0 * kDeg);
   // Between the training points (the held-out grid, cell midpoints) the error grows by at most
   // this factor (measured: 1.06 to 1.10).
   const double kHeldOutGrowth = 1.2;
@@ -107,7 +108,7 @@ TEST(MultiCmacPatternTest, NeedsFarMoreMemoryThanTheFuzzyCmac) {
       "bytes (%.0fx)\n",
       pattern.MemoryBytes(), fuzzy,
       static_cast<double>(pattern.MemoryBytes()) / static_cast<double>(fuzzy));
-  EXPECT_GT(pattern.MemoryBytes(), 50 * fuzzy);
+  EXPECT_GT(pattern.MemoryBytes(), 20 * fuzzy);  // eight gaits' 32 SISO CMACs: 27x
 }
 
 // The chapter's second argument: a multi-input CMAC must see the whole input space. Trained on

@@ -160,7 +160,7 @@ TEST(MultiCmacBaselineTest, RunsTheWalkerOnTheTrainedPattern) {
   const Suite suite = LoadSuite(kRoot + "/scenarios/paper.toml");
   Scenario s = suite.scenarios[1];  // flat
   ASSERT_EQ(s.name, "flat");
-  s.options.duration = 5.0;
+  s.options.duration = 8.0;
   const std::shared_ptr<const GaitLibrary> library = LoadGaitLibrary(s.pattern);
   const RunOutput r = RunScenario(s, "multi_cmac", library.get());
   EXPECT_EQ(r.run, "flat+multi_cmac");
