@@ -9,7 +9,9 @@
 #include <fstream>
 #include <stdexcept>
 
+#include "rabbit/control/fuzzy_cmac_walker.h"
 #include "rabbit/io/error.h"
+#include "rabbit/learn/ts_fis.h"
 #include "rabbit/scenario/run.h"
 #include "rabbit/scenario/suite.h"
 
@@ -174,6 +176,35 @@ TEST_F(PlannerKeysTest, ReadAndValidated) {
   ExpectError("enabled = \"yes\"\n", 13, "scenario[1].controller.planner.enabled", "");
   ExpectError("l_min = 0.5\n", -1, "scenario[1].controller.planner.l_min", "l_min < l_max");
   ExpectError("horizon = -1.0\n", -1, "scenario[1].controller.planner.horizon", "[0, 10]");
+  EXPECT_FALSE(suite.scenarios[0].walker.planner.tracked_gaits_only);  // default
+  EXPECT_TRUE(LoadSuite(Write("tracked_gaits_only = true\n"))
+                  .scenarios[0]
+                  .walker.planner.tracked_gaits_only);
+  ExpectError("tracked_gaits_only = 1\n", 13, "scenario[1].controller.planner.tracked_gaits_only",
+              "");
+}
+
+// tracked_gaits_only: the step-length system blends only the gaits whose rule share is below
+// 1/2; a rule share that leaves fewer than two is refused when the walker is built.
+TEST(StepPlannerTrackedGaitsTest, BlendsOnlyTheTrackedGaits) {
+  WalkerParams p;
+  p.warmup_steps = 0;
+  p.thigh_frame = false;
+  p.planner.enabled = true;
+  p.planner.tracked_gaits_only = true;
+  p.gait_l_steps = {0.15, 0.24, 0.28, 0.35, 0.36};
+  p.rule_share = {1, 1, 1, 1, 0};
+  p.gait_rules.assign(5, PragmaticParams());
+  TsFis fis = DefaultGaitPattern({0.3, 0.4, 0.5, 0.6, 0.7});
+  std::vector<GaitCmacs> networks(5);
+  CmacOptions o;
+  o.x_min = -1.0;
+  o.x_max = 1.0;
+  for (GaitCmacs& g : networks) g.assign(kGaitOutputs, Cmac(o));
+  VelocityProfile v;
+  EXPECT_THROW(FuzzyCmacWalker(p, FuzzyCmac(fis, networks), v, 0), std::invalid_argument);
+  p.rule_share = {1, 0, 0, 0, 0};
+  EXPECT_NO_THROW(FuzzyCmacWalker(p, FuzzyCmac(fis, networks), v, 0));
 }
 
 // Walking: obstacles of the training family that the walker without the planner trips on or
@@ -184,12 +215,12 @@ TEST_F(PlannerWalkTest, StepsOverObstaclesThatFailedWithoutIt) {
   struct Case {
     double x_start, length, height;
   };
-  // Training members obstacle-001, -003, -005 and -017 (robustness_train.toml), on the eight
+  // Training members obstacle-001, -002, -005 and -007 (robustness_train.toml), on the eight
   // shipped gaits with the walker of the robustness suites (fis_v_lead, rule_share).
   const Case cases[] = {{3.330445, 0.287657, 0.028837},
-                        {4.426278, 0.223127, 0.035015},
+                        {3.964709, 0.230076, 0.025746},
                         {3.227988, 0.170842, 0.057472},
-                        {4.358133, 0.277468, 0.033014}};
+                        {3.752074, 0.235556, 0.023432}};
   const std::string root = RABBIT_SOURCE_DIR;
   std::string text =
       "[suite]\nname = \"walk\"\n[defaults]\nexpect_outcome = \"completed\"\n"

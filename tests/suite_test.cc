@@ -266,6 +266,19 @@ height = 0.2
               "family[1].vary.velocity.points.1.range", "missing required key 'range'");
 }
 
+// lift_keeps_rules ([controller], default false: the rule share is suspended while the foot lift
+// is armed).
+TEST_F(SuiteTest, LiftKeepsRulesIsAControllerKey) {
+  EXPECT_FALSE(LoadSuite(Write(Walker("[[scenario]]\nname = \"a\"\n")))
+                   .scenarios[0]
+                   .walker.lift_keeps_rules);
+  EXPECT_TRUE(LoadSuite(Write(Walker("lift_keeps_rules = true\n[[scenario]]\nname = \"a\"\n")))
+                  .scenarios[0]
+                  .walker.lift_keeps_rules);
+  ExpectError(Walker("lift_keeps_rules = 2\n[[scenario]]\nname = \"a\"\n"), 12,
+              "scenario[1].controller.lift_keeps_rules", "");
+}
+
 // [suite.targets]: success rates in (0, 1] for families or scenarios of the suite.
 TEST_F(SuiteTest, TargetsNameGroupsOfTheSuite) {
   const std::string family = "[[family]]\nname = \"f\"\ncount = 2\n";

@@ -192,7 +192,19 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
     if (p_.gait_l_steps.size() != pattern_->GaitWeights().size()) {
       throw std::invalid_argument("walker: the step planner needs one L_step per reference gait");
     }
-    step_fis_ = StepLengthFis(p_.gait_l_steps);
+    // The gaits it blends: all, or (planner.tracked_gaits_only) those the walker tracks, whose
+    // rule share is below 1/2: the foot lift acts through the tracked references.
+    std::vector<double> l_steps;
+    for (size_t k = 0; k < p_.gait_l_steps.size(); ++k) {
+      const bool ruled = k < p_.rule_share.size() && p_.rule_share[k] >= 0.5;
+      if (p_.planner.tracked_gaits_only && ruled) continue;
+      planner_gaits_.push_back(k);
+      l_steps.push_back(p_.gait_l_steps[k]);
+    }
+    if (planner_gaits_.size() < 2) {
+      throw std::invalid_argument("walker: the step planner needs at least two gaits to blend");
+    }
+    step_fis_ = StepLengthFis(l_steps);
     planner_bias_ = p_.planner.bias_initial;
   }
 }
@@ -226,7 +238,10 @@ StepPlan FuzzyCmacWalker::PlanNextStep(const Observation& obs, const StepRecord&
   planner_target_ = target;
   const double input = pp.l_nominal + pp.stretch * (target - pp.l_nominal) - planner_bias_;
   // (Nearest-gait switching rounds them to the strongest gait in its SwingPattern.)
-  pattern_->SetGaitWeights(StepLengthWeights(step_fis_, input));
+  const std::vector<double> some = StepLengthWeights(step_fis_, input);
+  std::vector<double> w(p_.gait_l_steps.size(), 0.0);
+  for (size_t i = 0; i < planner_gaits_.size(); ++i) w[planner_gaits_[i]] = some[i];
+  pattern_->SetGaitWeights(w);
   return plan;
 }
 
@@ -473,7 +488,11 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   Vec4 tau;
   double share = 0.0;
   Eigen::Vector2d rules = Eigen::Vector2d::Zero();
-  if (!p_.rule_share.empty()) rules = RuleTorques(obs, &share);
+  // The foot lift acts through the PD references: while it is armed (the step over and the
+  // trailing leg's step) the swing is tracked, whatever the rule share, unless lift_keeps_rules.
+  if (!p_.rule_share.empty() && !(lift_armed_ && !p_.lift_keeps_rules)) {
+    rules = RuleTorques(obs, &share);
+  }
   tau[2 * sw] = rules[0] + (1.0 - share) * (p_.hip_kp * (ref[0] - q[sw_hip]) +
                                             p_.hip_kd * (ref[2] - qd[sw_hip]));
   tau[2 * sw + 1] = rules[1] + (1.0 - share) * (p_.knee_kp * (ref[1] - q[sw_hip + 1]) +

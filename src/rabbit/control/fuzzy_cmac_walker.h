@@ -108,6 +108,9 @@ struct WalkerParams {
   double lift_d_obs = 0.25;      // m
   double lift_lead = 0.10, lift_trail = 0.04, lift_ramp = 0.10, lift_release = 0.10;  // m
   bool lift_feedback = true;
+  // With a rule share (below): false (default) suspends it while the foot lift is armed, so that
+  // the lift, which acts through the PD references, can raise the foot; true keeps it.
+  bool lift_keeps_rules = false;
   double thigh_length = 0.40, shin_length = 0.47;  // m: the model's, for the inverse kinematics
   // Multi-step foot placement over obstacles ([controller.planner], step_planner.h). When enabled,
   // a step with an obstacle within planner.horizon takes its gait weights from the step-length
@@ -212,6 +215,7 @@ class FuzzyCmacWalker final : public Controller {
   double swing_start_ = 0.0;
   std::vector<RuleState> rule_states_;
   TsFis step_fis_;                // planner: the step-length fuzzy system (when enabled)
+  std::vector<size_t> planner_gaits_;  // planner: the gaits step_fis_ blends, in gait order
   double planner_bias_ = 0.0;     // planner: realised minus asked step length, fed back (m)
   double planner_target_ = -1.0;  // planner: the last planned step's target (-1: none)
   int recovery_left_ = 0;         // planner: nominal steps still to take after a step over

@@ -34,6 +34,10 @@ struct StepPlannerParams {
   // true (scenario.cc, kPlannerEnabledByDefault); a WalkerParams built in code starts without it.
   bool enabled = false;
   double horizon = 1.5;         // m: d_obs within which the planner takes over the step length
+  // Blend only the gaits the walker tracks (rule share below 1/2; all when there is no rule
+  // share). Off by default: on the training families it changed nothing for one obstacle and cost
+  // obstacle rows (README, design note 31).
+  bool tracked_gaits_only = false;
   double margin_before = 0.06;  // m: the last foot's distance short of the near edge
   double margin_after = 0.05;   // m: the step over lands this far past the far edge
   // Steps asked for: the range the walker realises at 0.6 m/s (the vm_0.40 gait's weights give

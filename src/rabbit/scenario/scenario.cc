@@ -615,6 +615,7 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
   w.lift_ramp = t->Double("lift_ramp", w.lift_ramp);
   w.lift_release = t->Double("lift_release", w.lift_release);
   w.lift_feedback = t->Bool("lift_feedback", w.lift_feedback);
+  w.lift_keeps_rules = t->Bool("lift_keeps_rules", w.lift_keeps_rules);
   ReadRecovery(t->Table("recovery"), &w.recovery);
   w.thigh_length = s->model.thigh_length;
   w.shin_length = s->model.shin_length;
@@ -622,6 +623,7 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
     // [controller.planner]: the multi-step foot placement over obstacles (step_planner.h).
     TomlReader pt = t->Table("planner");
     StepPlannerParams& pp = w.planner;
+    pp.tracked_gaits_only = pt.Bool("tracked_gaits_only", pp.tracked_gaits_only);
     constexpr bool kPlannerEnabledByDefault = true;  // README "Stepping over obstacles"
     pp.enabled = pt.Bool("enabled", kPlannerEnabledByDefault);
     pp.horizon = pt.Double("horizon", pp.horizon);
