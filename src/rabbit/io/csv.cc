@@ -49,4 +49,21 @@ double ParseFiniteNumber(const std::string& text, const std::string& file, int l
   return value;
 }
 
+std::string FormatCsvCell(const std::string& text) {
+  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
+  std::string out = "\"";
+  for (char c : text) {
+    if (c == '"') out += '"';
+    out += (c == '\n' || c == '\r') ? ' ' : c;
+  }
+  return out + "\"";
+}
+
+std::string FormatCsvNumber(double v) {
+  if (std::isnan(v)) return "nan";
+  char text[40];
+  std::snprintf(text, sizeof text, "%.10g", v);
+  return text;
+}
+
 }  // namespace rabbit

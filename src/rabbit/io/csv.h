@@ -18,6 +18,11 @@ std::vector<std::string> SplitCsv(const std::string& line);
 double ParseFiniteNumber(const std::string& text, const std::string& file, int line,
                          const std::string& key);
 
+// Writing: a cell's text (as is without commas, quotes or newlines; else quoted, quotes doubled,
+// newlines as spaces) and a number to 10 significant digits (`nan`, `inf` spelled out).
+std::string FormatCsvCell(const std::string& text);
+std::string FormatCsvNumber(double v);
+
 }  // namespace rabbit
 
 #endif  // RABBIT_IO_CSV_H_

@@ -9,6 +9,7 @@
 #include <fstream>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/csv.h"
 #include "rabbit/io/error.h"
 
 namespace rabbit {
@@ -18,24 +19,6 @@ using report_internal::IsMainRun;
 using report_internal::SummaryRow;
 
 constexpr double kNan = std::numeric_limits<double>::quiet_NaN();
-
-std::string Number(double v) {
-  if (std::isnan(v)) return "nan";
-  char text[40];
-  std::snprintf(text, sizeof text, "%.10g", v);
-  return text;
-}
-
-// A CSV cell: text without commas, quotes or newlines stays as is; anything else is quoted.
-std::string Cell(const std::string& text) {
-  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"') out += '"';
-    out += (c == '\n' || c == '\r') ? ' ' : c;
-  }
-  return out + "\"";
-}
 
 double Mean(const std::vector<double>& values) {
   if (values.empty()) return kNan;
@@ -207,17 +190,19 @@ std::string ComparisonHeader() {
 std::string ComparisonCsv(const std::vector<VariantComparison>& rows) {
   std::string out = ComparisonHeader() + "\n";
   for (const VariantComparison& c : rows) {
-    out += Cell(c.suite) + ',' + Cell(c.group) + ',' + (c.family ? "family" : "scenario") + ',' +
-           std::to_string(c.members) + ',' + Cell(c.variant) + ',' + Cell(c.controller) + ',' +
-           c.role + ',' + std::to_string(c.runs) + ',' + std::to_string(c.passed) + ',' +
-           Number(c.success_rate) + ',' + Number(c.ci.low) + ',' + Number(c.ci.high) + ',' +
-           std::to_string(c.completed) + ',' + std::to_string(c.fell) + ',' +
-           std::to_string(c.tripped) + ',' + std::to_string(c.diverged) + ',' +
-           std::to_string(c.timeout) + ',' + std::to_string(c.other_outcome) + ',' +
-           std::to_string(c.speed_error_runs) + ',' + Number(c.speed_error_mean) + ',' +
-           Number(c.speed_error_median) + ',' + std::to_string(c.cot_runs) + ',' +
-           Number(c.cot_mean) + ',' + Number(c.cot_median) + ',' + Number(c.pattern_memory_bytes) +
-           ',' + Number(c.target) + ',' + Number(c.target_gap) + '\n';
+    out += FormatCsvCell(c.suite) + ',' + FormatCsvCell(c.group) + ',' +
+           (c.family ? "family" : "scenario") + ',' + std::to_string(c.members) + ',' +
+           FormatCsvCell(c.variant) + ',' + FormatCsvCell(c.controller) + ',' + c.role + ',' +
+           std::to_string(c.runs) + ',' + std::to_string(c.passed) + ',' +
+           FormatCsvNumber(c.success_rate) + ',' + FormatCsvNumber(c.ci.low) + ',' +
+           FormatCsvNumber(c.ci.high) + ',' + std::to_string(c.completed) + ',' +
+           std::to_string(c.fell) + ',' + std::to_string(c.tripped) + ',' +
+           std::to_string(c.diverged) + ',' + std::to_string(c.timeout) + ',' +
+           std::to_string(c.other_outcome) + ',' + std::to_string(c.speed_error_runs) + ',' +
+           FormatCsvNumber(c.speed_error_mean) + ',' + FormatCsvNumber(c.speed_error_median) + ',' +
+           std::to_string(c.cot_runs) + ',' + FormatCsvNumber(c.cot_mean) + ',' +
+           FormatCsvNumber(c.cot_median) + ',' + FormatCsvNumber(c.pattern_memory_bytes) + ',' +
+           FormatCsvNumber(c.target) + ',' + FormatCsvNumber(c.target_gap) + '\n';
   }
   return out;
 }

@@ -6,6 +6,7 @@
 #include <sstream>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/csv.h"
 #include "rabbit/scenario/trajectory_csv.h"
 
 namespace rabbit {
@@ -13,31 +14,14 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
-// A CSV cell: text without commas, quotes or newlines stays as is; anything else is quoted.
-std::string Cell(const std::string& text) {
-  if (text.find_first_of(",\"\n\r") == std::string::npos) return text;
-  std::string out = "\"";
-  for (char c : text) {
-    if (c == '"') out += '"';
-    out += (c == '\n' || c == '\r') ? ' ' : c;
-  }
-  return out + "\"";
-}
-
-std::string Number(double v) {
-  if (std::isnan(v)) return "nan";
-  std::ostringstream out;
-  out << std::setprecision(10) << v;
-  return out.str();
-}
-
 // "start_s:duration_s:force_x_n:force_y_n:height_m;..." (empty: none).
 std::string PushesText(const std::vector<TrunkPush>& pushes) {
   std::string out;
   for (const TrunkPush& p : pushes) {
     if (!out.empty()) out += ';';
-    out += Number(p.start) + ':' + Number(p.duration) + ':' + Number(p.force.x()) + ':' +
-           Number(p.force.y()) + ':' + Number(p.height);
+    out += FormatCsvNumber(p.start) + ':' + FormatCsvNumber(p.duration) + ':' +
+           FormatCsvNumber(p.force.x()) + ':' + FormatCsvNumber(p.force.y()) + ':' +
+           FormatCsvNumber(p.height);
   }
   return out;
 }
@@ -50,17 +34,17 @@ void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::st
   const ModelParams& m = scenario.model;
   WriteFileAtomically((base / "meta.csv").string(), [&](std::ostream& out) {
     out << "key,value\n"
-        << "scenario," << Cell(run.scenario) << "\nvariant," << run.variant << "\ndescription,"
-        << Cell(scenario.description) << "\nthigh_length_m," << Number(m.thigh_length)
-        << "\nshin_length_m," << Number(m.shin_length) << "\ntrunk_length_m,"
-        << Number(m.trunk_length) << "\ncontrol_period_s,"
-        << Number(scenario.options.control_period) << "\nvelocity_profile,"
+        << "scenario," << FormatCsvCell(run.scenario) << "\nvariant," << run.variant
+        << "\ndescription," << FormatCsvCell(scenario.description) << "\nthigh_length_m,"
+        << FormatCsvNumber(m.thigh_length) << "\nshin_length_m," << FormatCsvNumber(m.shin_length)
+        << "\ntrunk_length_m," << FormatCsvNumber(m.trunk_length) << "\ncontrol_period_s,"
+        << FormatCsvNumber(scenario.options.control_period) << "\nvelocity_profile,"
         << VelocityProfileKindName(scenario.velocity.kind) << "\nstart_gait,"
-        << Cell(scenario.start_gait) << "\nseed," << scenario.seed << "\npushes,"
-        << Cell(PushesText(scenario.pushes)) << "\nv_m_noise_std_m_s,"
-        << Number(scenario.walker.v_m_noise) << "\nd_obs_noise_std_m,"
-        << Number(scenario.walker.d_obs_noise) << "\noutcome," << OutcomeName(run.sim.outcome)
-        << "\nreason," << Cell(run.sim.reason) << "\n";
+        << FormatCsvCell(scenario.start_gait) << "\nseed," << scenario.seed << "\npushes,"
+        << FormatCsvCell(PushesText(scenario.pushes)) << "\nv_m_noise_std_m_s,"
+        << FormatCsvNumber(scenario.walker.v_m_noise) << "\nd_obs_noise_std_m,"
+        << FormatCsvNumber(scenario.walker.d_obs_noise) << "\noutcome,"
+        << OutcomeName(run.sim.outcome) << "\nreason," << FormatCsvCell(run.sim.reason) << "\n";
   });
   WriteTrajectoryCsvFile(run.sim, (base / "trajectory.csv").string());
   size_t gaits = 0;
@@ -71,24 +55,26 @@ void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::st
     out << ",rules,warmup\n";
     for (const StepRow& s : run.steps) {
       const bool measured = s.step.t_step > 0.0;
-      out << s.step.index << ',' << s.step.leg + 1 << ',' << Number(s.step.t_touchdown) << ','
-          << Number(s.step.x) << ',' << Number(s.v_d) << ','
-          << (measured ? Number(s.step.v_m) : "nan") << ','
-          << (measured ? Number(s.v_m_used) : "nan") << ',' << Number(s.step.l_step) << ','
-          << (measured ? Number(s.step.t_step) : "nan") << ',' << Number(s.d_obs) << ','
-          << Number(s.q0_d * kRadToDeg);
+      out << s.step.index << ',' << s.step.leg + 1 << ',' << FormatCsvNumber(s.step.t_touchdown)
+          << ',' << FormatCsvNumber(s.step.x) << ',' << FormatCsvNumber(s.v_d) << ','
+          << (measured ? FormatCsvNumber(s.step.v_m) : "nan") << ','
+          << (measured ? FormatCsvNumber(s.v_m_used) : "nan") << ','
+          << FormatCsvNumber(s.step.l_step) << ','
+          << (measured ? FormatCsvNumber(s.step.t_step) : "nan") << ',' << FormatCsvNumber(s.d_obs)
+          << ',' << FormatCsvNumber(s.q0_d * kRadToDeg);
       for (size_t k = 0; k < gaits; ++k) {
-        out << ',' << (k < s.weights.size() ? Number(s.weights[k]) : "nan");
+        out << ',' << (k < s.weights.size() ? FormatCsvNumber(s.weights[k]) : "nan");
       }
-      out << ',' << Cell(s.rules) << ',' << (s.warmup ? 1 : 0) << '\n';
+      out << ',' << FormatCsvCell(s.rules) << ',' << (s.warmup ? 1 : 0) << '\n';
     }
   });
   WriteFileAtomically((base / "tracking.csv").string(), [&](std::ostream& out) {
     out << "t_s,stance_leg,e_rad,q_sw1_d_rad,q_sw1_rad,q_sw2_d_rad,q_sw2_rad,q0_d_rad,q0_rad\n";
     for (const WalkerTrack& t : run.tracking) {
-      out << Number(t.t) << ',' << t.stance + 1 << ',' << Number(t.e) << ',' << Number(t.hip_ref)
-          << ',' << Number(t.hip) << ',' << Number(t.knee_ref) << ',' << Number(t.knee) << ','
-          << Number(t.q0_d) << ',' << Number(t.q0) << '\n';
+      out << FormatCsvNumber(t.t) << ',' << t.stance + 1 << ',' << FormatCsvNumber(t.e) << ','
+          << FormatCsvNumber(t.hip_ref) << ',' << FormatCsvNumber(t.hip) << ','
+          << FormatCsvNumber(t.knee_ref) << ',' << FormatCsvNumber(t.knee) << ','
+          << FormatCsvNumber(t.q0_d) << ',' << FormatCsvNumber(t.q0) << '\n';
     }
   });
   const Terrain& terrain = scenario.terrain;
@@ -96,15 +82,16 @@ void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::st
     out << "x_start_m,length_m,height_m,base_m\n";
     for (size_t i = 0; i < terrain.obstacles.size(); ++i) {
       const Obstacle& o = terrain.obstacles[i];
-      out << Number(o.x_start) << ',' << Number(o.length) << ',' << Number(o.height) << ','
-          << Number(terrain.ObstacleBase(static_cast<int>(i))) << '\n';
+      out << FormatCsvNumber(o.x_start) << ',' << FormatCsvNumber(o.length) << ','
+          << FormatCsvNumber(o.height) << ','
+          << FormatCsvNumber(terrain.ObstacleBase(static_cast<int>(i))) << '\n';
     }
   });
   WriteFileAtomically((base / "ground.csv").string(), [&](std::ostream& out) {
     out << "x_start_m,slope_deg,height_m\n";
     for (const SlopeBreak& b : terrain.ground.breaks()) {
-      out << Number(b.x_start) << ',' << Number(b.slope * 180.0 / M_PI) << ','
-          << Number(terrain.GroundHeight(b.x_start)) << '\n';
+      out << FormatCsvNumber(b.x_start) << ',' << FormatCsvNumber(b.slope * 180.0 / M_PI) << ','
+          << FormatCsvNumber(terrain.GroundHeight(b.x_start)) << '\n';
     }
   });
 }
@@ -126,16 +113,18 @@ std::string SummaryRow(const std::string& suite, const RunOutput& run) {
   for (const std::string& f : run.failures) failed += (failed.empty() ? "" : ";") + f;
   const RunMetrics& m = run.metrics;
   std::ostringstream out;
-  out << Cell(suite) << ',' << Cell(run.scenario) << ',' << run.variant << ',' << Cell(run.run)
-      << ',' << run.controller << ',' << OutcomeName(run.sim.outcome) << ',' << Cell(run.sim.reason)
-      << ',' << (run.passed ? 1 : 0) << ',' << Cell(failed) << ',' << Number(m.duration) << ','
-      << Number(m.distance) << ',' << m.steps << ',' << Number(m.mean_abs_speed_error) << ','
-      << Number(m.final_abs_speed_error) << ',' << Number(m.l_step_mean) << ','
-      << Number(m.l_step_min) << ',' << Number(m.l_step_max) << ',' << Number(m.l_step_spread)
-      << ',' << Number(m.saturation) << ',' << Number(m.energy) << ','
-      << Number(m.cost_of_transport) << ',' << m.pattern_memory_bytes << ',' << Cell(run.family)
-      << ',' << Number(run.wall) << ','
-      << Number(run.wall > 0.0 ? m.duration / run.wall : std::nan(""));
+  out << FormatCsvCell(suite) << ',' << FormatCsvCell(run.scenario) << ',' << run.variant << ','
+      << FormatCsvCell(run.run) << ',' << run.controller << ',' << OutcomeName(run.sim.outcome)
+      << ',' << FormatCsvCell(run.sim.reason) << ',' << (run.passed ? 1 : 0) << ','
+      << FormatCsvCell(failed) << ',' << FormatCsvNumber(m.duration) << ','
+      << FormatCsvNumber(m.distance) << ',' << m.steps << ','
+      << FormatCsvNumber(m.mean_abs_speed_error) << ',' << FormatCsvNumber(m.final_abs_speed_error)
+      << ',' << FormatCsvNumber(m.l_step_mean) << ',' << FormatCsvNumber(m.l_step_min) << ','
+      << FormatCsvNumber(m.l_step_max) << ',' << FormatCsvNumber(m.l_step_spread) << ','
+      << FormatCsvNumber(m.saturation) << ',' << FormatCsvNumber(m.energy) << ','
+      << FormatCsvNumber(m.cost_of_transport) << ',' << m.pattern_memory_bytes << ','
+      << FormatCsvCell(run.family) << ',' << FormatCsvNumber(run.wall) << ','
+      << FormatCsvNumber(run.wall > 0.0 ? m.duration / run.wall : std::nan(""));
   return out.str();
 }
 
