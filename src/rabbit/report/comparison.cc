@@ -4,12 +4,11 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
 
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/csv.h"
+#include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
 
 namespace rabbit {
@@ -62,24 +61,15 @@ SuccessTargets ReadTargets(const std::string& dir) {
   const std::string path = (std::filesystem::path(dir) / kTargetsFile).string();
   SuccessTargets targets;
   if (!std::filesystem::exists(path)) return targets;
-  std::ifstream in(path);
-  std::string line;
-  int number = 1;
-  if (!std::getline(in, line) || line != "group,target_success_rate") {
-    throw InputError(path, 1, "", "expected the header group,target_success_rate");
-  }
-  while (std::getline(in, line)) {
-    ++number;
-    if (line.empty()) continue;
-    const size_t comma = line.rfind(',');
-    char* end = nullptr;
-    const double rate =
-        comma == std::string::npos ? kNan : std::strtod(line.c_str() + comma + 1, &end);
-    if (comma == std::string::npos || comma == 0 || end == nullptr || *end != '\0' ||
-        !(rate > 0.0 && rate <= 1.0)) {
-      throw InputError(path, number, "", "expected group,rate with a rate in (0, 1]");
+  const CsvTable table = CsvTable::Read(path);
+  const size_t group = table.Column("group"), rate = table.Column("target_success_rate");
+  for (size_t row = 0; row < table.num_rows(); ++row) {
+    const double value = table.Number(row, rate);
+    if (table.Cell(row, group).empty() || !(value > 0.0 && value <= 1.0)) {
+      throw InputError(path, table.line(row), "target_success_rate",
+                       "expected a group and a rate in (0, 1]");
     }
-    targets.emplace_back(line.substr(0, comma), rate);
+    targets.emplace_back(table.Text(row, group), value);
   }
   return targets;
 }

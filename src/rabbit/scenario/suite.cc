@@ -6,6 +6,7 @@
 #include <set>
 #include <sstream>
 
+#include "rabbit/io/csv.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/learn/cmac.h"
@@ -116,11 +117,11 @@ std::string SetOverride(const std::vector<const toml::table*>& layers, const std
 }  // namespace
 
 std::string TargetsCsv(const Suite& suite) {
-  std::ostringstream out;
-  out.precision(10);
-  out << "group,target_success_rate\n";
-  for (const auto& [group, rate] : suite.targets) out << group << ',' << rate << '\n';
-  return out.str();
+  std::string out = "group,target_success_rate\n";
+  for (const auto& [group, rate] : suite.targets) {
+    out += FormatCsvCell(group) + ',' + FormatCsvNumber(rate) + '\n';
+  }
+  return out;
 }
 
 double FamilyDraw(std::uint64_t family_seed, int member, const std::string& key, double low,
