@@ -15,6 +15,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cctype>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -278,6 +279,35 @@ std::vector<fs::path> ProductDocs() {
   return out;
 }
 
+// GitHub's anchor of a Markdown heading: lower case, punctuation dropped but '-' and '_', spaces
+// to '-'.
+std::string Anchor(const std::string& heading) {
+  std::string out;
+  for (const char c : heading) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (std::isalnum(u) || c == '-' || c == '_') {
+      out += static_cast<char>(std::tolower(u));
+    } else if (c == ' ') {
+      out += '-';
+    }
+  }
+  return out;
+}
+
+// The anchors of a Markdown file's headings.
+std::set<std::string> Anchors(const fs::path& file) {
+  std::set<std::string> anchors;
+  bool in_code = false;
+  for (const std::string& line : Lines(file)) {
+    if (line.rfind("```", 0) == 0) in_code = !in_code;
+    if (in_code || line.empty() || line[0] != '#') continue;
+    const size_t text = line.find_first_not_of('#');
+    if (text == std::string::npos || line[text] != ' ') continue;
+    anchors.insert(Anchor(line.substr(text + 1)));
+  }
+  return anchors;
+}
+
 bool ExistsInRepo(const std::string& relative) {
   return fs::exists(fs::path(kRoot) / relative) || kWrittenElsewhere.count(relative) != 0;
 }
@@ -307,15 +337,28 @@ TEST(DocsTest, ProductDocsCiteNoIssueNumberAndOnlyFilesThatExist) {
       for (std::sregex_iterator it(line.begin(), line.end(), link), none; it != none; ++it) {
         std::string target = (*it)[1].str();
         if (target.rfind("http://", 0) == 0 || target.rfind("https://", 0) == 0 ||
-            target.rfind("mailto:", 0) == 0 || target[0] == '#') {
+            target.rfind("mailto:", 0) == 0) {
           continue;
         }
-        target = target.substr(0, target.find('#'));
+        if (target[0] == '#') {  // a section of this file
+          EXPECT_EQ(Anchors(file).count(target.substr(1)), 1u)
+              << where << ": the link (" << target << ") names a section this file does not have";
+          continue;
+        }
+        const size_t hash = target.find('#');
+        const std::string anchor = hash == std::string::npos ? "" : target.substr(hash + 1);
+        target = target.substr(0, hash);
         const std::string resolved =
             fs::path(Relative(file.parent_path() / target)).lexically_normal().generic_string();
         EXPECT_TRUE(ExistsInRepo(resolved))
             << where << ": the link (" << (*it)[1].str() << ") names " << resolved
             << ", which is not in the repository";
+        const fs::path linked = fs::path(kRoot) / resolved;
+        if (!anchor.empty() && linked.extension() == ".md" && fs::is_regular_file(linked)) {
+          EXPECT_EQ(Anchors(linked).count(anchor), 1u)
+              << where << ": the link (" << (*it)[1].str() << ") names the section #" << anchor
+              << ", which " << resolved << " does not have";
+        }
       }
       for (std::sregex_iterator it(line.begin(), line.end(), path), none; it != none; ++it) {
         std::string target = (*it)[1].str();
