@@ -1,4 +1,4 @@
-// Tuning throughput (issue 6): evaluations per second of a tuning job on 1 and 2 threads, against
+// Tuning throughput: evaluations per second of a tuning job on 1 and 2 threads, against
 // its peer, the job's own runs as one plain batch (RunBatch): the tuner's own cost (loading the
 // suites under each candidate's overlay, the rounds' barriers, the log) is the difference. The job: 2 searches of CRS2 over the velocity gains, 12 s of each ramp of
 // scenarios/tune_ramp.toml per run, 8 evaluations (16 runs). Run with

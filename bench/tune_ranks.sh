@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Tuning throughput over MPI ranks (issue 6): one process on 1 and 2 threads against 1 and 2 MPI
+# Tuning throughput over MPI ranks: one process on 1 and 2 threads against 1 and 2 MPI
 # ranks of one thread each, on the job of tune_benchmark.cc (8 evaluations of 2 ramps each),
 # alternating the four set-ups for ROUNDS rounds (this machine's speed drifts), then the median
 # wall time and evaluations per second of each.

@@ -1,4 +1,4 @@
-// The closed loop (issue 5): the Fuzzy-CMAC walker against the pragmatic rules on the same
+// The closed loop: the Fuzzy-CMAC walker against the pragmatic rules on the same
 // scenario, robot and simulator (the walker's cost is the only difference), the controller's cost
 // per control period, the gait pattern in the chapter's frame and in the thigh frame (and the
 // multi_cmac baseline's query and training), and the whole default suite on 1 and 2 threads. Run

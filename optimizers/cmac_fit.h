@@ -1,4 +1,4 @@
-// Fitting a SISO CMAC with Ceres (issue 4). The output is linear in the weights, so fitting a
+// Fitting a SISO CMAC with Ceres. The output is linear in the weights, so fitting a
 // CMAC to samples (x_i, y_i) is a sparse linear least-squares problem: one residual per sample,
 // O(x_i) - y_i, touching its N_l active weights; optional smoothness residuals
 // sqrt(smoothness) (w_a - w_b) between neighbouring detectors of the same layer; and a tiny ridge

@@ -1,4 +1,4 @@
-// NLopt gait synthesis (issue 3): searches the pragmatic rules' parameters for a stable periodic
+// NLopt gait synthesis: searches the pragmatic rules' parameters for a stable periodic
 // gait at a requested average velocity (and step length, when given). Derivative-free: a local
 // stage (SBPLX or BOBYQA) from the chapter's Table 2 values interpolated at the target velocity;
 // when that does not reach the criteria, a global stage (CRS2 with local mutation, seeded) and a

@@ -27,7 +27,7 @@ constexpr AlgorithmName kAlgorithms[] = {
     {"esch", TuneAlgorithm::kEsch},     {"direct", TuneAlgorithm::kDirect},
     {"direct_l", TuneAlgorithm::kDirectL}, {"ceres", TuneAlgorithm::kCeres}};
 
-// A run without a value for a term counts this (README, "Tuning jobs").
+// A run without a value for a term counts this (docs/formats/tune-job.md).
 constexpr double kDefaultMissing[kNumTuneTerms] = {1.0, 1.0, 0.5, 0.0, 5.0, 0.0};
 
 std::string FileText(const std::string& path) {

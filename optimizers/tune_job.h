@@ -1,6 +1,6 @@
 // Tuning jobs (`rabbit tune JOB.toml`): which settings to tune, within which bounds, to minimise
-// which weighted terms over which scenario suites, with which algorithm and budget. See README,
-// "Tuning jobs", for the file format; LoadTuneJob validates everything before anything runs.
+// which weighted terms over which scenario suites, with which algorithm and budget. See
+// docs/formats/tune-job.md for the file format; LoadTuneJob validates everything before anything runs.
 //
 //   [job]        name, description, suites = [...] (relative to the job file), filter (regex on
 //                scenario names), params (a base overlay under the tuned values), algorithm,

@@ -1,6 +1,6 @@
 // Ceres and LMS fits of CMACs: they agree on the same data to within what the regulariser and
 // the LMS epochs leave; the Ceres fit of a shipped gait's swing angles has RMS error below 0.1 deg;
-// hashed storage with collisions fits too. And the memory comparison of issue 4: 20 SISO CMACs
+// hashed storage with collisions fits too. And the memory comparison: 20 SISO CMACs
 // versus one multi-input CMAC over (e, V_M, d_obs) reaching the same training RMS, with their
 // errors on held-out gaits.
 #include "cmac_fit.h"
@@ -63,7 +63,7 @@ TEST(CmacFitTest, HashedStorageWithCollisionsStillFits) {
   EXPECT_LT(s.rms, 0.02);
 }
 
-// Issue 4's memory comparison, printed: trained on the gaits at 0.4, 0.6 and 0.8 m/s, tested on
+// The memory comparison, printed: trained on the gaits at 0.4, 0.6 and 0.8 m/s, tested on
 // 0.5 and 0.7 (d_obs = 1 m, no obstacle). The Fuzzy-CMAC blends its SISO CMACs with the FIS
 // weights at the held-out velocity; the multi-input CMAC answers from its own generalisation.
 TEST(CmacFitTest, MemoryComparisonWithAMultiInputCmac) {

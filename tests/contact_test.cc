@@ -1,4 +1,4 @@
-// Contact law (chapter eqs. 2-5 with DESIGN.md's corrections), its guards and transitions, and the
+// Contact law (chapter eqs. 2-5 with the corrections of docs/design.md), its guards and transitions, and the
 // terrain geometry.
 #include "rabbit/contact/contact.h"
 
@@ -146,7 +146,7 @@ TEST(ContactOnSlopeTest, ForceIsTheFlatLawInTheSurfaceFrame) {
       FootContactState stuck = on_slope;
       OnFrictionEvent(p, sloped, pos, vel, &stuck);
       ASSERT_EQ(stuck.mode, ContactMode::kStick);
-      // DESIGN.md's rule ignores lambda_t: compare the spring parts.
+      // The anchor rule ignores lambda_t: compare the spring parts.
       const Vec2 still = Vec2::Zero();
       const double spring = ComputeFootForce(p, sloped, stuck, pos, still).ft;
       const double slide = -on_slope.slide_dir * p.lambda_g * f.fn - p.mu_g * vel.dot(t);

@@ -518,7 +518,7 @@ TEST(FllTest, MissingFileIsAnInputError) {
   }
 }
 
-// The inputs kept from fuzzing (tests/fuzz/regressions/fuzz_fll/, README "Fuzzing"): fuzzylite
+// The inputs kept from fuzzing (tests/fuzz/regressions/fuzz_fll/, docs/testing.md): fuzzylite
 // leaks on them (only ASan's fuzz build sees that); here they must be plain InputErrors.
 TEST(FllTest, FuzzRegressionsAreInputErrors) {
   const std::filesystem::path dir =

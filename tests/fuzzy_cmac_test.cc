@@ -57,7 +57,7 @@ TEST(FuzzyCmacTest, ReproducesEachReferenceGaitAtItsVelocity) {
       sum += (y[0] - s.q1) * (y[0] - s.q1);
     }
     const double rms_deg = std::sqrt(sum / static_cast<double>(gait.swing.size())) * 180.0 / M_PI;
-    // The steep hip pulses of vm_0.40 (0.57 deg) and vm_0.30 (2.1 deg) are the worst, see README.
+    // The steep hip pulses of vm_0.40 (0.57 deg) and vm_0.30 (2.1 deg) are the worst (docs/results.md).
     const double kLimitDeg = index[k].name == "vm_0.30" ? 2.5 : 1.0;
     EXPECT_LT(rms_deg, kLimitDeg);
   }

@@ -214,7 +214,7 @@ TEST(FuzzyCmacWalkerTest, NearestGaitSwitchingKeepsOneGait) {
   EXPECT_TRUE(w[3] == 1.0 || w[4] == 1.0);
 }
 
-// Rule share (README design note 28): gait 3 alone (weight 1) with share r gives the swing
+// Rule share (docs/design.md, "The walker"): gait 3 alone (weight 1) with share r gives the swing
 // (1 - r) PD + r (its rules' torques), and the stance knee the mix of the walker's and the gait's
 // gains. At t = 0.1 s of the swing the rules' hip is in its pulse and the knee free; once the
 // thighs open past qr1_dsw, the hip locks with the gait's PD.

@@ -3,7 +3,7 @@
 // grid within a measured bound of that; a grid coarser than the quanta generalises worse; training
 // is deterministic (the same weights twice, and on two threads at once) and the cache trains once;
 // the walker's view of it (MultiCmacSwingPattern) holds its context and answers in its own frame.
-// Prints the numbers the README quotes (memory, RMS, training time).
+// Prints the numbers docs/results.md quotes (memory, RMS, training time).
 #include "rabbit/learn/multi_cmac_pattern.h"
 
 #include <gtest/gtest.h>

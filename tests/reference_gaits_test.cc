@@ -1,4 +1,4 @@
-// The shipped reference gaits (gaits/reference/) against issue 3's acceptance criteria: each,
+// The shipped reference gaits (gaits/reference/) against the gait-synthesis acceptance criteria: each,
 // re-walked from the documented start with the parameters stored in its file, walks at least 30
 // steps without falling, its last 10 steps' V_M within 0.03 m/s of the target, L_step varying by
 // less than 1 cm; the five step lengths rise with V_M as in the chapter's Table 2 (within 0.03 m);

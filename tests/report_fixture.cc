@@ -25,7 +25,7 @@ struct RunSpec {
 
 const double kObstacleX = 2.0, kObstacleLength = 0.2, kObstacleHeight = 0.02;
 const int kDecimation = 10;  // 1 kHz -> 100 Hz, as `rabbit run` writes
-// The reference gaits' measured V_M (README), the centres of the fuzzy V_M triangles.
+// The reference gaits' measured V_M (gaits/reference/index.csv), the centres of the fuzzy V_M triangles.
 const double kGaitSpeeds[5] = {0.390, 0.491, 0.585, 0.695, 0.807};
 
 std::string Num(double v) {

@@ -1,5 +1,5 @@
 // Batch runs: the same summary whatever the number of threads; pass criteria on hand-built runs;
-// metrics against independent figures; and the paper suite's claims (issue 5, "Must show"):
+// metrics against independent figures; and the paper suite's claims:
 // (a) V_M follows V_d up to 1.0 m/s and L_step rises from about 0.25 to above 0.45 m, (b) flat
 // walking with a nearly constant L_step, (c) the step before the obstacle shortens, the next
 // lengthens and clears it, and walking goes on.

@@ -1,4 +1,4 @@
-// Simulator: energy conservation and dissipation, the contact acceptance numbers of DESIGN.md
+// Simulator: energy conservation and dissipation, the contact acceptance numbers of docs/design.md
 // (drop, standing slip, slope), event location, actuator saturation, obstacles, failures and
 // determinism. Most tests run with both integrators.
 #include "rabbit/sim/simulator.h"
@@ -74,7 +74,7 @@ TEST_P(SimulatorTest, ContactFreeTorqueFreeMotionConservesEnergy) {
 TEST_P(SimulatorTest, WithContactAndDampingEnergyNeverIncreases) {
   // A passive collapse: touchdowns while moving, sliding, sticking and the knees folding; no
   // torque does work, so kinetic + potential + contact spring energy can only fall, except for
-  // the one source the contact law has: when slip stops, DESIGN.md's anchor rule loads the
+  // the one source the contact law has: when slip stops, the anchor rule loads the
   // tangential spring with exactly 0.5 k_t (x - x_c)^2. The balance below allows that and nothing
   // else, plus the integrator's error (rtol 1e-8) on a total of a few hundred joules.
   const Model model{ModelParams{}};
@@ -109,7 +109,7 @@ TEST_P(SimulatorTest, WithContactAndDampingEnergyNeverIncreases) {
 }
 
 TEST_P(SimulatorTest, DropSettlesWithinAcceptanceNumbers) {
-  // DESIGN.md: a 2 cm drop settles with maximum penetration under 5 mm and no rebound over 1 mm.
+  // Acceptance: a 2 cm drop settles with maximum penetration under 5 mm and no rebound over 1 mm.
   const Model model{ModelParams{}};
   SimSetup setup = BaseSetup(model, 1.5);
   const Vec7 q = Stance(model, 0.02);
@@ -142,7 +142,7 @@ TEST_P(SimulatorTest, StandingFeetDoNotSlip) {
   PdHoldController hold(HoldAt(q));
   const SimResult r = Simulate(setup, q, Vec7::Zero(), &hold);
   ASSERT_EQ(r.outcome, Outcome::kCompleted) << r.reason;
-  // DESIGN.md: standing still, feet slip < 1 mm/s. The first 0.5 s are the settling of the
+  // Acceptance: standing still, feet slip < 1 mm/s. The first 0.5 s are the settling of the
   // contact springs under the robot's weight (a 2 mm sink and the matching elastic spread of the
   // feet), not slip; from then on, sample by sample, and no foot ever enters slide.
   const double kMaxSlip = 1e-3;
@@ -565,7 +565,7 @@ TEST_P(SimulatorTest, StandingOnAProfileInclineBalancesGravityOrSlides) {
 
 // (3) Energy on the profile: a passive collapse onto a 10 deg incline with little contact damping
 // (touchdowns while moving, sliding, sticking, knees folding). With no torque, kinetic + potential
-// + contact spring energy can only fall, but for the anchor rule's one source (design note 2):
+// + contact spring energy can only fall, but for the anchor rule's one source (docs/design.md):
 // when slip stops, the tangential spring is loaded with 0.5 k_t stretch^2, the stretch measured
 // along the surface. Sample by sample, within the integrator's error.
 TEST_P(SimulatorTest, PassiveMotionOnAProfileSlopeOnlyLosesEnergy) {

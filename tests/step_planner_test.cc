@@ -1,4 +1,4 @@
-// The step planner (issue 7): its arithmetic against hand-computed plans, the step-length fuzzy
+// The step planner: its arithmetic against hand-computed plans, the step-length fuzzy
 // system's interpolation between neighbouring gaits, and [controller.planner]'s key validation.
 #include "rabbit/control/step_planner.h"
 

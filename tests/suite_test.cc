@@ -1,6 +1,6 @@
 // Scenario suites: [defaults] under every scenario, errors that name the line where the bad value
 // stands (in the scenario or in the defaults), randomised families that expand deterministically,
-// and the bad inputs of issue 5 (unknown controller, negative obstacle height, a velocity profile
+// and the documented bad inputs (unknown controller, negative obstacle height, a velocity profile
 // with no points, an unknown key), each an InputError with file, line and key.
 #include "rabbit/scenario/suite.h"
 
@@ -213,7 +213,7 @@ value = 0.6
   EXPECT_EQ(paper.scenarios.back().family, "obstacle_anywhere");
 }
 
-// Issue 7's draws: an element of an array of arrays (velocity points), a magnitude with a random
+// The robustness families' draws: an element of an array of arrays (velocity points), a magnitude with a random
 // sign, and a varied key of a table taken whole ([velocity]) keeping the table's other keys.
 TEST_F(SuiteTest, FamiliesVaryNestedArraysSignsAndWholeTables) {
   const std::string text = Walker(R"([[family]]
@@ -303,7 +303,7 @@ TEST_F(SuiteTest, RobustnessTrainingSuiteMatchesTheHeldOutOne) {
   for (const Scenario& s : train.scenarios) ++train_count[family(s.name)];
   ASSERT_EQ(held_out_count.size(), train_count.size());
   for (const auto& [name, count] : held_out_count) {
-    EXPECT_GE(count, 100) << name;  // issue 7: at least 100 scenarios per family
+    EXPECT_GE(count, 100) << name;  // at least 100 scenarios per family
     EXPECT_GT(train_count[name], 0) << name;
   }
   // Line by line, the files differ only in the documented places.

@@ -1,4 +1,4 @@
-// rabbit gaits synthesize | generate | list: the reference-gait database (issue 3).
+// rabbit gaits synthesize | generate | list: the reference-gait database.
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -76,7 +76,7 @@ bool SynthesizeOne(const SynthesisOptions& options, const std::string& name, boo
         run.metrics.fell ? (" (" + run.metrics.reason + ")").c_str() : "", run.metrics.v_m,
         run.metrics.v_m_spread, run.metrics.l_step, run.metrics.l_step_spread, run.metrics.t_step);
   }
-  // Issue 3's acceptance on the recorded walk: 30 steps, the last 10 within 0.03 m/s of the
+  // The acceptance criteria on the recorded walk: 30 steps, the last 10 within 0.03 m/s of the
   // target, L_step varying by less than 1 cm (and within 0.03 m of a requested step length).
   const GaitMetrics& m = run.metrics;
   return r.success && !m.fell && m.steps >= 30 && !record->swing.empty() &&

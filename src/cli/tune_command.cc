@@ -97,7 +97,7 @@ Command RegisterTune(CLI::App* app) {
   auto args = std::make_shared<TuneArgs>();
   CLI::App* cmd = app->add_subcommand(
       "tune", "Tune parameters over scenario suites with NLopt or Ceres (a job file)");
-  cmd->add_option("job", args->job, "Tuning job (TOML; see README, \"Tuning jobs\")")->required();
+  cmd->add_option("job", args->job, "Tuning job (TOML; see docs/formats/tune-job.md)")->required();
   cmd->add_option("--out,-o", args->options.out, "Output folder (default reports/<job name>)");
   cmd->add_option("--jobs,-j", args->options.threads, "Threads per process (default: all cores)")
       ->check(CLI::Range(0, 1024));

@@ -1,4 +1,4 @@
-// Compliant point-foot contact with stick/slide friction (chapter eqs. 2-5, DESIGN.md section 1).
+// Compliant point-foot contact with stick/slide friction (chapter eqs. 2-5).
 //
 // Each foot is a hybrid system: its mode (air, stick, slide), anchor x_c, surface (the ground or an
 // obstacle's top) and ground segment are discrete state that changes only at events located by the
@@ -21,7 +21,7 @@
 //   slide -> stick    when the slip reverses, or when the sticking force the foot would need at its
 //                     slip speed, |Ft2 - lambda_t xd| = lambda_g Fn + (mu_g + lambda_t)|xd|, falls
 //                     below lambda_g Fn + resume_fraction (mu_s - lambda_g) Fn. The anchor moves to
-//                     x + Ft2 / k_t (DESIGN.md): the spring carries the sliding force, so sticking
+//                     x + Ft2 / k_t: the spring carries the sliding force, so sticking
 //                     resumes without a jump in the spring force, inside the cone by a margin
 //                     (1 - resume_fraction)(mu_s - lambda_g) Fn, which keeps the switch from
 //                     chattering. A foot landing with some tangential speed starts in slide and
@@ -126,7 +126,7 @@ FootContactState InitialFootState(const Terrain& terrain, const Eigen::Vector2d&
 // Energy stored in the contact springs: 0.5 k_n y^2 (y < 0) + 0.5 k_t (x - x_c)^2 (stick), in the
 // surface's frame.
 // The contact law is passive (it never adds energy) but for one step: when slip stops, the anchor
-// rule of DESIGN.md (no force jump) loads the tangential spring with 0.5 Ft2^2 / k_t at once.
+// rule (no force jump) loads the tangential spring with 0.5 Ft2^2 / k_t at once.
 double ContactElasticEnergy(const ContactParams& params, const Terrain& terrain,
                             const FootContactState& state, const Eigen::Vector2d& pos);
 

@@ -1,4 +1,4 @@
-// The closed-loop walker of the chapter (section 5, figure 9; DESIGN.md section 3):
+// The closed-loop walker of the chapter (section 5, figure 9):
 //   gait pattern   the Fuzzy-CMAC: every control period the swing leg's references
 //                  [q_i1_d, q_i2_d, qd_i1_d, qd_i2_d] = Y(e) with e = q_st1, the stance hip angle
 //                  (eq. 13); the fuzzy system is evaluated once per step, at touchdown, at
@@ -53,7 +53,7 @@ const char* VelocityProfileKindName(VelocityProfile::Kind kind);
 struct WalkerParams {
   // PD gains (N m/rad, N m s/rad): swing hip (eq. 21), swing knee (eq. 22), stance knee (eq. 23),
   // trunk through the stance hip (eq. 24).
-  // Defaults: chosen by a sweep of the paper suite's ramp (README, "The walker").
+  // Defaults: chosen by a sweep of the paper suite's ramp (docs/design.md, "The walker").
   double hip_kp = 350.0, hip_kd = 25.0;
   double knee_kp = 350.0, knee_kd = 20.0;
   double stance_knee_kp = 900.0, stance_knee_kd = 35.0;
@@ -80,7 +80,7 @@ struct WalkerParams {
   //   tau_swing = (1 - sum_k w_k r_k) PD + sum_k w_k r_k tau_rules_k,
   //   stance knee gains = sum_k w_k ((1 - r_k) stance_knee_kp + r_k knee_kp_k) (kd alike).
   // The fast gaits use the motors' whole torque and speed range on a compliant stance knee, which
-  // PD tracking cannot reproduce (README, design notes): they are walked by their rules.
+  // PD tracking cannot reproduce (docs/design.md, "The walker"): they are walked by their rules.
   std::vector<double> rule_share;
   // Per reference gait, in the gait pattern's order (filled from the gait database, not a key).
   std::vector<PragmaticParams> gait_rules;
@@ -224,7 +224,7 @@ class FuzzyCmacWalker final : public Controller {
 };
 
 // Perceived distance from x (the front foot) to the near edge of the next obstacle ahead,
-// saturated at d_max (DESIGN.md section 3).
+// saturated at d_max (docs/design.md).
 double ObstacleDistance(const Terrain& terrain, double x, double d_max);
 
 }  // namespace rabbit

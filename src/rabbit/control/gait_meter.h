@@ -1,4 +1,4 @@
-// Gait measurement from the binary contact sensors (DESIGN.md section 2): touchdown and take-off
+// Gait measurement from the binary contact sensors (docs/design.md): touchdown and take-off
 // of each foot, and per step L_step (horizontal distance between the feet at touchdown), t_step
 // (take-off to landing of the same leg) and V_M = L_step / t_step (chapter eq. 1).
 #ifndef RABBIT_CONTROL_GAIT_METER_H_

@@ -1,4 +1,4 @@
-// Push recovery for the Fuzzy-CMAC walker (issue 7; beyond the chapter). Two reactions, each a
+// Push recovery for the Fuzzy-CMAC walker (beyond the chapter). Two reactions, each a
 // parameter of RecoveryParams (keys of [controller.recovery]):
 //
 //   backward step   a swing foot that lands behind the stance foot while the hip moves backward

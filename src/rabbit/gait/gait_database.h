@@ -1,4 +1,4 @@
-// The CSV gait database (DESIGN.md section 5). One file per gait:
+// The CSV gait database (docs/formats/gait-csv.md). One file per gait:
 //   # format = rabbit-gait/1
 //   # key = value                 metadata: targets, measured figures, rule parameters, model hash,
 //   ...                           generator, seed, source (angles in fields named _deg)

@@ -8,6 +8,40 @@
 #include "rabbit/io/error.h"
 
 namespace rabbit {
+namespace {
+
+thread_local TomlKeyRecording* g_recording = nullptr;
+
+// "terrain.obstacles.1.x_start" -> "terrain.obstacles[].x_start": array elements by "[]".
+std::string RecordedPath(const std::string& path) {
+  std::string out;
+  size_t start = 0;
+  while (start <= path.size()) {
+    size_t end = path.find('.', start);
+    if (end == std::string::npos) end = path.size();
+    const std::string part = path.substr(start, end - start);
+    if (!part.empty() && !out.empty() &&
+        part.find_first_not_of("0123456789") == std::string::npos) {
+      out += "[]";
+    } else {
+      if (!out.empty()) out += '.';
+      out += part;
+    }
+    start = end + 1;
+  }
+  return out;
+}
+
+}  // namespace
+
+TomlKeyRecording::TomlKeyRecording() : previous_(g_recording) { g_recording = this; }
+
+TomlKeyRecording::~TomlKeyRecording() { g_recording = previous_; }
+
+void TomlReader::Know(const std::string& key) {
+  known_.insert(key);
+  if (g_recording != nullptr) g_recording->keys_.emplace(RecordedPath(rel_ + key), file_);
+}
 
 TomlReader::TomlReader(std::vector<std::shared_ptr<const toml::table>> owners,
                        std::vector<const toml::table*> layers, std::string file, std::string prefix,
@@ -116,7 +150,7 @@ bool TomlReader::IsArray(const std::string& key) const {
 }
 
 const toml::node* TomlReader::Node(const std::string& key) {
-  known_.insert(key);
+  Know(key);
   return Find(key);
 }
 
@@ -138,7 +172,7 @@ bool NumberOf(const toml::node& node, double* value) {
 
 double TomlReader::Double(const std::string& key, double default_value) {
   if (const double* patch = Patch(key)) {
-    known_.insert(key);
+    Know(key);
     Observe(key, *patch);
     return *patch;
   }
@@ -154,7 +188,7 @@ double TomlReader::Double(const std::string& key, double default_value) {
 
 double TomlReader::RequiredDouble(const std::string& key) {
   if (!Has(key) && Patch(key) == nullptr) {
-    known_.insert(key);
+    Know(key);
     Fail("", "missing required key '" + key + "'");
   }
   return Double(key, 0.0);
@@ -162,7 +196,7 @@ double TomlReader::RequiredDouble(const std::string& key) {
 
 long TomlReader::Integer(const std::string& key, long default_value, long min, long max) {
   if (const double* patch = Patch(key)) {
-    known_.insert(key);
+    Know(key);
     if (!(*patch == std::round(*patch) && *patch >= static_cast<double>(min) &&
           *patch <= static_cast<double>(max))) {
       Fail(key, "a parameter sets this integer setting to " + std::to_string(*patch) +
@@ -282,7 +316,7 @@ TomlReader TomlReader::Table(const std::string& key) {
 }
 
 TomlReader TomlReader::TableFromLayers(const std::string& key, size_t layers) {
-  known_.insert(key);
+  Know(key);
   std::vector<const toml::table*> tables;
   int line = line_;
   bool first = true;

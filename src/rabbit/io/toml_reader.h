@@ -14,6 +14,27 @@
 
 namespace rabbit {
 
+// While alive, records the path of every key that a TomlReader on this thread accepts, with the
+// file that first accepted it. A key is accepted once a read asks for it (Finish() refuses the
+// others), so these are the keys the readers know, as far as the files read reach them. Paths are
+// relative to the file's root, array elements as "name[]": "terrain.obstacles[].x_start". Used by
+// the documentation test; recordings nest (the innermost records).
+class TomlKeyRecording {
+ public:
+  TomlKeyRecording();
+  ~TomlKeyRecording();
+  TomlKeyRecording(const TomlKeyRecording&) = delete;
+  TomlKeyRecording& operator=(const TomlKeyRecording&) = delete;
+
+  // Key path -> the first file that accepted it.
+  const std::map<std::string, std::string>& keys() const { return keys_; }
+
+ private:
+  friend class TomlReader;
+  std::map<std::string, std::string> keys_;
+  TomlKeyRecording* previous_ = nullptr;
+};
+
 class TomlReader {
  public:
   // Parses a whole file; syntax errors become InputError with the line.
@@ -87,6 +108,8 @@ class TomlReader {
              std::vector<const toml::table*> layers, std::string file, std::string prefix,
              int line);
   const toml::node* Node(const std::string& key);
+  // Marks `key` of this table as known (Finish() accepts it) and records it (TomlKeyRecording).
+  void Know(const std::string& key);
   int LineOf(const toml::node* node) const;
   std::string PathOf(const std::string& key) const;
 

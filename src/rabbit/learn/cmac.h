@@ -1,4 +1,4 @@
-// SISO CMAC (Albus; chapter section 3.1, DESIGN.md section 4).
+// SISO CMAC (Albus; chapter section 3.1).
 //
 // N_l layers of binary detectors over a quantized scalar input. The input x (clamped to
 // [x_min, x_max]) is quantized to the integer quantum k = floor((x - x_min) / dq). Each layer's

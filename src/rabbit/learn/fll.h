@@ -1,4 +1,4 @@
-// TS-FIS definitions in fuzzylite's FLL language (DESIGN.md section 4): parsed by fuzzylite's own
+// TS-FIS definitions in fuzzylite's FLL language (docs/formats/fll.md): parsed by fuzzylite's own
 // importer (libfuzzylite-dev), then checked and compiled into the project's evaluator (ts_fis.h).
 //
 // Supported: a zero-order Takagi-Sugeno system as TsFis represents it, i.e.

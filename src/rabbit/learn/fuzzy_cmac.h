@@ -39,7 +39,7 @@ class FuzzyCmac {
   // The four swing-leg references at e with the current weights (eq. 13).
   Eigen::Vector4d Query(double e) const;
 
-  // The thigh frame (an addition to the chapter, see README design notes): gait k was learnt with
+  // The thigh frame (an addition to the chapter, see docs/design.md): gait k was learnt with
   // the trunk held at pitch q0_k, so in terms of absolute thigh angles (th = q_i1 - q0) its swing
   // thigh is O^k_1(th_st + q0_k) - q0_k while knee angles and rates are unchanged. Given every
   // gait's pitch, QueryThigh(th_st) blends the gaits in that frame: its first output is the swing

@@ -1,4 +1,4 @@
-// Multi-input CMAC (Albus), the baseline the chapter argues against (section 3, DESIGN.md
+// Multi-input CMAC (Albus), the baseline the chapter argues against (section 3,
 // section 4): one network over an n-dimensional input instead of SISO CMACs merged by a fuzzy
 // system.
 //

@@ -38,8 +38,8 @@ namespace rabbit {
 // The largest hash table of one CMAC: 2^22 weights (32 MB).
 constexpr int kMaxMultiCmacTable = 1 << 22;
 
-// Every setting of the baseline: [controller.multi_cmac] in a scenario (README, "Scenario
-// suites"). Quanta in input units (rad, m/s, m); widths in quanta (receptive field / quantum).
+// Every setting of the baseline: [controller.multi_cmac] in a scenario (docs/formats/scenario.md,
+// "The multi_cmac baseline"). Quanta in input units (rad, m/s, m); widths in quanta (receptive field / quantum).
 struct MultiCmacPatternOptions {
   // Structure. In e as the SISO CMACs of the Fuzzy-CMAC (0.25 deg quanta, 1.5 deg receptive
   // fields, 6 layers); V_M and d_obs resolved finely enough for the fuzzy sets' slopes.
@@ -58,7 +58,7 @@ struct MultiCmacPatternOptions {
   // (beyond it the input clamps, as the FIS's shoulders hold their gait).
   double v_m_margin = 0.1;  // m/s
   // Training grid steps (at most; see above). The defaults put a point in every quantum cell: a
-  // coarser grid leaves cells that only the CMAC's local generalisation fills (README).
+  // coarser grid leaves cells that only the CMAC's local generalisation fills (docs/results.md).
   double grid_e_step = 0.25 * 3.14159265358979323846 / 180.0;  // rad
   double grid_v_m_step = 0.01;                                 // m/s
   double grid_d_obs_step = 0.02;                               // m

@@ -1,4 +1,4 @@
-// Trained SISO CMACs as CSV files (DESIGN.md section 5, gaits/networks/):
+// Trained SISO CMACs as CSV files (docs/formats/networks.md, gaits/networks/):
 //   # format = rabbit-cmac/1
 //   # layers = 6                  structure: layers, quantum_rad, width, x_min, x_max,
 //   # quantum_rad = 0.00436...    hash_table_size, hash_seed (all required)

@@ -424,7 +424,7 @@ std::string DefaultGaitPatternComment(const std::vector<double>& reference_veloc
   const int n = static_cast<int>(c.size());
   const std::vector<std::string> v_names = VelocitySetNames(n);
   std::ostringstream out;
-  out << "The gait pattern (chapter section 5.1, DESIGN.md section 4): a zero-order Takagi-Sugeno\n"
+  out << "The gait pattern (chapter section 5.1): a zero-order Takagi-Sugeno\n"
          "fuzzy system choosing among the N_r = "
       << n
       << " reference gaits from the measured average velocity\n"

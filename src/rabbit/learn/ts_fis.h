@@ -1,4 +1,4 @@
-// Zero-order Takagi-Sugeno fuzzy inference (chapter section 3.2, DESIGN.md section 4), compiled
+// Zero-order Takagi-Sugeno fuzzy inference (chapter section 3.2), compiled
 // into a flat evaluator: for inputs x, each rule's activation is the product of its antecedents'
 // memberships (eq. 9), and the output is the normalised weighted average of the rules' constant
 // consequents (eqs. 10-11). Rules are a table over the input sets (every combination, "and").

@@ -1,6 +1,6 @@
-// Mass and geometry of the RABBIT biped (DESIGN.md section 1, chapter Table 1).
+// Mass and geometry of the RABBIT biped (docs/design.md, chapter Table 1).
 // All values SI. Defaults are the documented RABBIT values; every one can be overridden from a
-// `[model]` TOML table (see scenario/scenario.h and README "Model parameters").
+// `[model]` TOML table (see scenario/scenario.h and docs/formats/model.md).
 #ifndef RABBIT_MODEL_PARAMS_H_
 #define RABBIT_MODEL_PARAMS_H_
 

@@ -624,7 +624,7 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
     TomlReader pt = t->Table("planner");
     StepPlannerParams& pp = w.planner;
     pp.tracked_gaits_only = pt.Bool("tracked_gaits_only", pp.tracked_gaits_only);
-    constexpr bool kPlannerEnabledByDefault = true;  // README "Stepping over obstacles"
+    constexpr bool kPlannerEnabledByDefault = true;  // docs/design.md, "The step planner"
     pp.enabled = pt.Bool("enabled", kPlannerEnabledByDefault);
     pp.horizon = pt.Double("horizon", pp.horizon);
     pp.margin_before = pt.Double("margin_before", pp.margin_before);
@@ -765,7 +765,7 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name, const Pa
     if (!unused.empty()) {
       overlay->Fail(unused.front(), "names no numeric setting of scenario \"" + s.name + "\" (" +
                                         s.file + ", controller " + ControllerName(s.controller) +
-                                        "): see README, \"Parameter overlays\"");
+                                        "): see docs/formats/overlay.md");
     }
     return s;
   }

@@ -1,4 +1,4 @@
-// A single-run scenario file for `rabbit simulate` (TOML; see README "Scenario files").
+// A single-run scenario file for `rabbit simulate` (TOML; see docs/formats/scenario.md).
 #ifndef RABBIT_SCENARIO_SCENARIO_H_
 #define RABBIT_SCENARIO_SCENARIO_H_
 

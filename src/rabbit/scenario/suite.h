@@ -1,4 +1,4 @@
-// Scenario suites (DESIGN.md section 5): one TOML file holding many scenarios.
+// Scenario suites (docs/formats/suite.md): one TOML file holding many scenarios.
 //
 //   [suite]                  name (default: the file's stem), description
 //   [suite.targets]          group = success rate in (0, 1] (a family's or a scenario's name)
