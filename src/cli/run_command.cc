@@ -510,8 +510,9 @@ Command RegisterRun(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand(
       "run", "Run scenario suites in parallel and write their report (default: the paper suite)");
   cmd->add_option(
-      "suites", args->suites,
-      std::string("Suite files (TOML; default: ") + kDefaultSuite + " below the data root)");
+         "suites", args->suites,
+         std::string("Suite files (TOML; default: ") + kDefaultSuite + " below the data root)")
+      ->default_str("");  // not "[]"
   cmd->add_option(
       "--out,-o", args->out,
       "Report folder to write (one suite; default: reports/<suite name>), or the parent of "
