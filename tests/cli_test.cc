@@ -858,7 +858,7 @@ TEST_F(CliTest, RunEndsWithVerdictAndSummarisesFamilies) {
   EXPECT_NE(run.output.find("family obstacle_anywhere " + rate + " ("), std::string::npos)
       << run.output;
   EXPECT_NE(run.output.find("95% CI "), std::string::npos);
-  EXPECT_NE(run.output.find("family     obstacle_anywhere [main]: " + rate), std::string::npos);
+  EXPECT_NE(run.output.find("family     obstacle_anywhere: " + rate), std::string::npos);
   EXPECT_NE(run.output.find("NO = a required scenario failed"), std::string::npos);
   for (const std::string& member : passed_members) {
     EXPECT_EQ(run.output.find(member + " "), std::string::npos) << member << " is in the table";

@@ -45,8 +45,6 @@ std::string Rate(int passed, int runs) {
          "%, 95% CI " + Percent(ci.low) + "-" + Percent(ci.high) + "%)";
 }
 
-std::string VariantLabel(const std::string& variant) { return variant.empty() ? "main" : variant; }
-
 }  // namespace
 
 void TallyRuns(const std::string& suite, const std::vector<BatchJob>& jobs,
@@ -113,9 +111,17 @@ void PrintRunTable(std::FILE* out, const std::string& suite, const std::vector<B
   }
   RunTally tally;
   TallyRuns(suite, jobs, runs, &tally);
+  // One line per family: the main variant's rate and interval, then its baselines' counts.
   for (const FamilyTally& f : tally.families) {
-    std::fprintf(out, "family     %s [%s]: %s\n", f.family.c_str(), VariantLabel(f.variant).c_str(),
-                 Rate(f.passed, f.runs).c_str());
+    if (!f.variant.empty()) continue;
+    std::string line = "family     " + f.family + ": " + Rate(f.passed, f.runs);
+    std::string baselines;
+    for (const FamilyTally& b : tally.families) {
+      if (b.family != f.family || b.variant.empty()) continue;
+      baselines += (baselines.empty() ? "; baselines " : ", ") + b.variant + " " +
+                   std::to_string(b.passed) + "/" + std::to_string(b.runs);
+    }
+    std::fprintf(out, "%s%s\n", line.c_str(), baselines.c_str());
   }
   std::fprintf(out,
                "legend     pass: yes = met its criteria; NO = a required scenario failed (the run "
@@ -130,9 +136,11 @@ std::string VerdictLine(const RunTally& t) {
   const int required = t.required_passed + t.required_failed;
   const int optional = t.optional_passed + t.optional_failed;
   const int baselines = t.baseline_passed + t.baseline_failed;
-  std::string line = std::string("verdict    ") + (t.required_failed > 0 ? "FAILED" : "PASSED") +
-                     ": required " + std::to_string(t.required_passed) + "/" +
-                     std::to_string(required) + " passed";
+  std::string line =
+      std::string("verdict    ") + (t.required_failed > 0 ? "FAILED" : "PASSED") + ": required " +
+      (required == 0
+           ? std::string("none")
+           : std::to_string(t.required_passed) + "/" + std::to_string(required) + " passed");
   if (t.required_failed > 0) line += " (" + std::to_string(t.required_failed) + " failed)";
   line += "; optional " + std::to_string(t.optional_passed) + "/" + std::to_string(optional) +
           " passed";

@@ -1,6 +1,6 @@
 // What `rabbit run` prints about a suite's runs: the table (every plain scenario's run; for a
-// family, its failed main runs and one line per variant with the success rate), its legend, and
-// the closing verdict over every suite of the invocation.
+// family, its failed main runs and one line with its success rate and its baselines'), its
+// legend, and the closing verdict over every suite of the invocation.
 #ifndef RABBIT_CLI_RUN_SUMMARY_H_
 #define RABBIT_CLI_RUN_SUMMARY_H_
 
