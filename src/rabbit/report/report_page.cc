@@ -62,9 +62,10 @@ td.criteria li+li:before{content:"\2022\00a0";color:#c0a0a0}
 td.variant{text-align:left;white-space:nowrap}
 td.variant.baseline{font-style:italic;color:#4a5058}
 td.status{white-space:nowrap}
-.reason{font-size:12px;color:var(--muted);white-space:normal;min-width:120px;max-width:190px}
+.reason{font-size:11.5px;color:var(--muted);white-space:normal;min-width:110px;max-width:150px}
 table.summary{font-size:12px}
-table.summary td,table.summary th{padding:3px 4px}
+table.summary td,table.summary th{padding:3px 3px}
+table.summary th{font-size:11.5px}
 tr.pass td.status{background:var(--pass);color:#16652a;font-weight:700}
 tr.fail td.status{background:var(--fail);color:#a3150f;font-weight:700}
 tr.group-start td{border-top:2px solid #9aa3ad}
