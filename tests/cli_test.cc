@@ -1,8 +1,8 @@
 // The rabbit CLI end to end: exit codes (0 success, 1 failed criteria, 2 bad input or usage), the
 // error message naming file and key, and the CSV it writes. Runs the built binary.
 #include <gtest/gtest.h>
-#include <unistd.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cmath>
 #include <csignal>
@@ -13,6 +13,8 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
+#include "rabbit/io/csv_table.h"
 
 namespace {
 
@@ -778,4 +780,93 @@ TEST_F(CliTest, RunOverItsWallTimeLimitEndsAsTimeoutAndTheBatchGoesOn) {
     EXPECT_EQ(refused.code, 2) << bad << refused.output;
     EXPECT_NE(refused.output.find("max_wall_s"), std::string::npos) << refused.output;
   }
+}
+
+// The data root's rule (cli/data_root.h), from a folder outside any checkout: no path compiled
+// into the binary is ever read; --data, then RABBIT_DATA, name it; a bad one is bad input.
+TEST_F(CliTest, DataRootIsFoundByOneRuleAndNeverCompiledIn) {
+  const std::string root = RABBIT_SOURCE_DIR;
+  const std::string here = "cd " + dir_.string() + " && env -u RABBIT_DATA";
+  const CliRun none = RunCli("run", here);
+  EXPECT_EQ(none.code, 2) << none.output;
+  EXPECT_NE(none.output.find("no data root"), std::string::npos) << none.output;
+  EXPECT_FALSE(fs::exists(dir_ / "reports"));
+  const CliRun version = RunCli("--version", here);
+  EXPECT_EQ(version.code, 0);
+  EXPECT_NE(version.output.find("data root: none found"), std::string::npos) << version.output;
+
+  const CliRun flag = RunCli("gaits list --data " + root, here);
+  EXPECT_EQ(flag.code, 0) << flag.output;
+  EXPECT_NE(flag.output.find("vm_0.60 "), std::string::npos) << flag.output;
+  EXPECT_NE(RunCli("--data " + root + " --version", here).output.find("(found by: --data)"),
+            std::string::npos);
+  const CliRun env = RunCli("--version", "cd " + dir_.string() + " && RABBIT_DATA=" + root);
+  EXPECT_NE(env.output.find("data root: " + root + " (found by: RABBIT_DATA)"), std::string::npos)
+      << env.output;
+  // --data before RABBIT_DATA.
+  const CliRun both = RunCli("--data " + root + " --version",
+                             "cd " + dir_.string() + " && RABBIT_DATA=" + dir_.string());
+  EXPECT_NE(both.output.find("(found by: --data)"), std::string::npos) << both.output;
+  // A folder below the checkout finds the checkout.
+  const CliRun below = RunCli("--version", "cd " + root + "/src/rabbit && env -u RABBIT_DATA");
+  EXPECT_NE(below.output.find("data root: " + root + " (found by: checkout)"), std::string::npos)
+      << below.output;
+
+  const CliRun missing = RunCli(
+      "gaits list", "cd " + dir_.string() + " && RABBIT_DATA=" + (dir_ / "nowhere").string());
+  EXPECT_EQ(missing.code, 2) << missing.output;
+  EXPECT_NE(missing.output.find("RABBIT_DATA"), std::string::npos) << missing.output;
+  const CliRun not_data = RunCli("gaits list --data " + dir_.string(), here);
+  EXPECT_EQ(not_data.code, 2) << not_data.output;
+  EXPECT_NE(not_data.output.find("is not a data root"), std::string::npos) << not_data.output;
+  // A path the user gives is the working directory's, whatever the data root.
+  const CliRun given = RunCli("gaits list --dir " + root + "/gaits/reference", here);
+  EXPECT_EQ(given.code, 0) << given.output;
+}
+
+// rabbit run ends with a verdict over the required and optional runs and each family's success
+// with its Wilson interval; a family's passed runs are left out of the table unless -v.
+TEST_F(CliTest, RunEndsWithVerdictAndSummarisesFamilies) {
+  const std::string out = (dir_ / "report").string();
+  const std::string args = "run " + Scenario("paper.toml") +
+                           " --filter '^flat$|obstacle_anywhere-00[0-5]' --no-html -j 2 -o " + out;
+  const CliRun run = RunCli(args);
+  ASSERT_EQ(run.code, 0) << run.output;
+  int family_runs = 0, family_passed = 0, required = 0, required_passed = 0;
+  std::vector<std::string> passed_members;
+  const rabbit::CsvTable summary = rabbit::CsvTable::Read(out + "/summary.csv");
+  for (size_t r = 0; r < summary.num_rows(); ++r) {
+    const std::string name = summary.Text(r, summary.Column("run"));
+    if (name != summary.Text(r, summary.Column("scenario"))) continue;  // a baseline
+    const bool passed = summary.Text(r, summary.Column("passed")) == "1";
+    if (summary.Text(r, summary.Column("family")).empty()) {
+      ++required;
+      required_passed += passed ? 1 : 0;
+    } else {
+      ++family_runs;
+      family_passed += passed ? 1 : 0;
+      if (passed) passed_members.push_back(name);
+    }
+  }
+  ASSERT_EQ(family_runs, 6);
+  EXPECT_EQ(required, 1);
+  const std::string rate = std::to_string(family_passed) + "/6 passed";
+  EXPECT_NE(run.output.find("verdict    PASSED: required " + std::to_string(required_passed) +
+                            "/1 passed; optional " + rate),
+            std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("family obstacle_anywhere " + rate + " ("), std::string::npos)
+      << run.output;
+  EXPECT_NE(run.output.find("95% CI "), std::string::npos);
+  EXPECT_NE(run.output.find("family     obstacle_anywhere: " + rate), std::string::npos);
+  EXPECT_NE(run.output.find("NO = a required scenario failed"), std::string::npos);
+  for (const std::string& member : passed_members) {
+    EXPECT_EQ(run.output.find(member + " "), std::string::npos) << member << " is in the table";
+  }
+  const CliRun verbose = RunCli(args + " -v");
+  ASSERT_EQ(verbose.code, 0) << verbose.output;
+  for (const std::string& member : passed_members) {
+    EXPECT_NE(verbose.output.find(member + " "), std::string::npos) << member << " is not listed";
+  }
+  EXPECT_NE(verbose.output.find("data root: "), std::string::npos) << verbose.output;
 }

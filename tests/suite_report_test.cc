@@ -13,6 +13,8 @@
 #include <random>
 #include <regex>
 #include <sstream>
+#include <string>
+#include <vector>
 
 #include "rabbit/io/error.h"
 #include "rabbit/model/model.h"
@@ -101,6 +103,62 @@ TEST_F(SuiteReportTest, PageHasSummaryReplaysAndFigures) {
   EXPECT_TRUE(std::regex_search(json, std::regex("[0-9]\\.[0-9]{4}")));
   // The error counter is installed before any other script.
   EXPECT_LT(page.find("addEventListener('error'"), page.find("<style>"));
+}
+
+// The numbers of a JSON array `"key":[...]` in `json` (of its first inner array, if nested).
+std::vector<double> JsonArray(const std::string& json, const std::string& key) {
+  std::vector<double> out;
+  const size_t at = json.find("\"" + key + "\":[");
+  if (at == std::string::npos) return out;
+  std::stringstream s(json.substr(at + key.size() + 4, json.find(']', at) - at - key.size() - 4));
+  std::string cell;
+  while (std::getline(s, cell, ',')) {
+    cell.erase(0, cell.find_first_not_of('['));  // nested arrays: [[a, b], ...]
+    out.push_back(std::atof(cell.c_str()));
+  }
+  return out;
+}
+
+// A replay opens near the first event: the obstacle run a little before its hip reaches the
+// obstacle, the walks (completed, nothing ahead) at their start. The page opens on the verdict
+// and keeps each scenario's figures, steps and replays in a collapsed block.
+TEST_F(SuiteReportTest, ReplaysOpenNearTheObstacleAndDetailIsOneClickAway) {
+  const std::string dir = CopyFixture("replay_start");
+  SuiteReportOptions options;
+  options.gnuplot = "/nonexistent/gnuplot";
+  const std::string page = ReadText(WriteSuiteReport(dir, options, nullptr));
+  int replays = 0, with_obstacle = 0;
+  for (size_t at = page.find("class=\"replay-data\">"); at != std::string::npos;
+       at = page.find("class=\"replay-data\">", at + 1)) {
+    ++replays;
+    const std::string json = page.substr(at, page.find("</script>", at) - at);
+    const std::smatch found = [&json] {
+      std::smatch m;
+      std::regex_search(json, m, std::regex("\"start\":([0-9]+),"));
+      return m;
+    }();
+    ASSERT_FALSE(found.empty()) << json.substr(0, 200);
+    const size_t start = std::stoul(found[1].str());
+    const std::vector<double> p = JsonArray(json, "p");
+    const std::vector<double> obstacle = JsonArray(json, "obs");  // [[x_start, ...]]
+    ASSERT_LT(12 * start, p.size());
+    if (obstacle.empty()) {
+      EXPECT_EQ(start, 0u);
+      continue;
+    }
+    ++with_obstacle;
+    // Hip x at the first frame: about 0.6 m plus a second of walking (0.5 to 1.0 m/s) before
+    // the obstacle, and the obstacle still ahead.
+    const double hip_x = p[12 * start], x_start = obstacle.front();
+    EXPECT_GT(start, 0u);
+    EXPECT_GT(hip_x, x_start - 0.6 - 1.2) << "opens too early";
+    EXPECT_LT(hip_x, x_start - 0.6) << "opens past the approach";
+  }
+  EXPECT_EQ(replays, 3);
+  EXPECT_EQ(with_obstacle, 1);
+  EXPECT_LT(page.find("<b>Verdict</b>"), page.find("<section id=\"head-to-head\">"));
+  EXPECT_EQ(Count(page, "<details class=\"run-detail\">"), 2);  // walk, obstacle
+  EXPECT_LT(page.find("<details class=\"run-detail\">"), page.find("<canvas"));
 }
 
 TEST_F(SuiteReportTest, PageOpensWithTheHeadToHeadAndWritesComparisonCsv) {

@@ -1,4 +1,4 @@
-// rabbit gaits synthesize | generate | list: the reference-gait database.
+// rabbit gaits synthesize | generate | report | list: the reference-gait database.
 #include <atomic>
 #include <chrono>
 #include <cmath>
@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/data_root.h"
 #include "gait_synthesis.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
@@ -245,45 +246,57 @@ int RunList(const std::string& dir) {
   return 0;
 }
 
+constexpr const char* kDatabaseHelp = "Gait database folder (a default is below the data root)";
+
 }  // namespace
 
 Command RegisterGaits(CLI::App* app) {
-  CLI::App* gaits = app->add_subcommand("gaits", "Reference gaits: synthesize, generate, list");
+  CLI::App* gaits =
+      app->add_subcommand("gaits", "Reference gaits: synthesize, generate, report, list");
   gaits->require_subcommand(1);
   auto synth = std::make_shared<SynthesizeArgs>();
   CLI::App* s = gaits->add_subcommand(
       "synthesize", "Search the pragmatic rules for a gait at a velocity (NLopt) and store it");
   s->add_option("--vm", synth->v_m, "Target average velocity V_M, m/s")->required();
-  s->add_option("--lstep", synth->l_step, "Target step length, m (default: none)");
-  s->add_option("--seed", synth->seed, "Seed of the global stage");
-  s->add_option("--budget", synth->budget, "Simulations at most")->check(CLI::Range(1, 1000000));
-  s->add_option("--dir", synth->dir, "Gait database directory");
-  s->add_option("--name", synth->name, "Gait name (default vm_<V>)");
+  s->add_option("--lstep", synth->l_step, "Target step length, m (0: none)");
+  s->add_option("--seed", synth->seed,
+                "Seed of the global stage (the search is deterministic for it)");
+  s->add_option("--budget", synth->budget, "Simulations (walks) at most")
+      ->check(CLI::Range(1, 1000000));
+  DataDefault(s, s->add_option("--dir", synth->dir, kDatabaseHelp), &synth->dir);
+  s->add_option("--name", synth->name, "Gait name (default: vm_<V_M>, e.g. vm_0.60)");
   s->add_flag("--force", synth->force, "Store the gait even if it misses the criteria");
   s->add_flag("--quiet,-q", synth->quiet, "No progress output");
   auto gen = std::make_shared<GenerateArgs>();
   CLI::App* g = gaits->add_subcommand(
-      "generate", "Regenerate the reference database: the five gaits of Table 2, or a config's");
-  g->add_option("config", gen->config, "TOML with [[gait]] v_m, l_step, seed, budget");
-  g->add_option("--dir", gen->dir, "Gait database directory");
-  g->add_option("--jobs", gen->jobs, "Parallel searches (default: all cores)")
-      ->check(CLI::Range(1, 1024));
+      "generate",
+      "Regenerate the reference database: from a config's [[gait]] targets (the shipped eight: "
+      "gaits/targets.toml), or without one the chapter's five of Table 2 (0.4 to 0.8 m/s)");
+  g->add_option(
+      "config", gen->config,
+      "TOML with [[gait]] v_m, l_step, seed, budget (default: none, the five of Table 2)");
+  DataDefault(g, g->add_option("--dir", gen->dir, kDatabaseHelp), &gen->dir);
+  g->add_option("--jobs,-j", gen->jobs, "Parallel searches (0: all cores)")
+      ->check(CLI::Range(0, 1024));
   g->add_flag("--quiet,-q", gen->quiet, "No progress output");
   g->add_flag("--force", gen->force, "Store gaits even if they miss the criteria");
   auto report_dir = std::make_shared<std::string>("gaits/reference");
   auto report_out = std::make_shared<std::string>("reports/gaits");
   CLI::App* r = gaits->add_subcommand(
       "report", "Stick diagrams and swing trajectories of a database's gaits (HTML)");
-  r->add_option("--dir", *report_dir, "Gait database directory");
-  r->add_option("--out", *report_out, "Report directory");
+  DataDefault(r, r->add_option("--dir", *report_dir, kDatabaseHelp), report_dir.get());
+  r->add_option("--out,-o", *report_out, "Report folder to write (index.html and its figures)");
+  auto report_quiet = std::make_shared<bool>(false);
+  r->add_flag("--quiet,-q", *report_quiet, "Print nothing but errors");
   auto list_dir = std::make_shared<std::string>("gaits/reference");
   CLI::App* l = gaits->add_subcommand("list", "List the gaits of a database");
-  l->add_option("--dir", *list_dir, "Gait database directory");
+  DataDefault(l, l->add_option("--dir", *list_dir, kDatabaseHelp), list_dir.get());
   return {gaits, [=] {
             if (s->parsed()) return RunSynthesize(*synth);
             if (g->parsed()) return RunGenerate(*gen);
             if (r->parsed()) {
-              std::printf("wrote %s\n", WriteGaitReport(*report_dir, *report_out).c_str());
+              const std::string page = WriteGaitReport(*report_dir, *report_out);
+              if (!*report_quiet) std::printf("wrote %s\n", page.c_str());
               return 0;
             }
             if (l->parsed()) return RunList(*list_dir);

@@ -11,6 +11,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/data_root.h"
 #include "cmac_fit.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
@@ -34,6 +35,7 @@ struct TrainArgs {
   double smoothness = 1e-4;
   double margin_deg = 5.0;
   bool compare = false;
+  bool quiet = false;
 };
 
 // Fits one CMAC with the named method; returns seconds taken.
@@ -97,9 +99,13 @@ int RunTrain(const TrainArgs& a) {
   };
   std::vector<Fitted> fitted;
   std::vector<NetworkIndexEntry> entries;
-  std::printf("%-8s %-6s %8s %12s %10s", "gait", "output", "method", "RMS", "time ms");
-  if (a.compare) std::printf("   (other method: RMS, time ms)");
-  std::printf("\n");
+  // The table of the fits goes to stdout, or nowhere with --quiet.
+  std::FILE* table = a.quiet ? nullptr : stdout;
+  if (table != nullptr) {
+    std::fprintf(table, "%-8s %-6s %8s %12s %10s", "gait", "output", "method", "RMS", "time ms");
+    if (a.compare) std::fprintf(table, "   (other method: RMS, time ms)");
+    std::fprintf(table, "\n");
+  }
   for (const GaitRecord& g : gaits) {
     std::vector<double> x;
     std::array<std::vector<double>, kGaitOutputs> y;
@@ -109,16 +115,18 @@ int RunTrain(const TrainArgs& a) {
       const double seconds = Fit(a.method, a, x, y[o], &cmac);
       const double rms = CmacRmsError(cmac, x, y[o]);
       const bool angle = o < 2;
-      std::printf("%-8s %-6s %8s %9.4f %s %10.2f", g.name.c_str(), kGaitOutputNames[o],
-                  a.method.c_str(), rms / kDeg, angle ? "deg  " : "deg/s", seconds * 1e3);
-      if (a.compare) {
-        const std::string other = a.method == "lms" ? "ceres" : "lms";
-        Cmac check(options);
-        const double other_seconds = Fit(other, a, x, y[o], &check);
-        std::printf("   (%s: %.4f, %.2f)", other.c_str(), CmacRmsError(check, x, y[o]) / kDeg,
-                    other_seconds * 1e3);
+      if (table != nullptr) {
+        std::fprintf(table, "%-8s %-6s %8s %9.4f %s %10.2f", g.name.c_str(), kGaitOutputNames[o],
+                     a.method.c_str(), rms / kDeg, angle ? "deg  " : "deg/s", seconds * 1e3);
+        if (a.compare) {
+          const std::string other = a.method == "lms" ? "ceres" : "lms";
+          Cmac check(options);
+          const double other_seconds = Fit(other, a, x, y[o], &check);
+          std::fprintf(table, "   (%s: %.4f, %.2f)", other.c_str(),
+                       CmacRmsError(check, x, y[o]) / kDeg, other_seconds * 1e3);
+        }
+        std::fprintf(table, "\n");
       }
-      std::printf("\n");
       const std::string file = g.name + "_" + kGaitOutputNames[o] + ".csv";
       fitted.push_back({cmac,
                         file,
@@ -140,7 +148,7 @@ int RunTrain(const TrainArgs& a) {
   if (fs::exists(out)) fs::rename(out, old);
   fs::rename(staging, out);
   fs::remove_all(old);
-  std::printf("wrote %zu networks to %s\n", entries.size(), a.out.c_str());
+  if (!a.quiet) std::printf("wrote %zu networks to %s\n", entries.size(), a.out.c_str());
   return 0;
 }
 
@@ -210,7 +218,7 @@ int RunFisEval(const FisArgs& a) {
 
 // Writes the default gait pattern (Table 3 generalised to the database's N_r gaits, V_M sets at
 // their measured velocities) for a gait database.
-int RunFisGenerate(const std::string& gaits_dir, const std::string& out) {
+int RunFisGenerate(const std::string& gaits_dir, const std::string& out, bool quiet) {
   namespace fs = std::filesystem;
   const std::string index_path = (fs::path(gaits_dir) / "index.csv").string();
   const std::vector<GaitIndexEntry> index = ReadGaitIndex(index_path);
@@ -229,7 +237,9 @@ int RunFisGenerate(const std::string& gaits_dir, const std::string& out) {
                          " reference gaits, found " + std::to_string(v.size()));
   }
   SaveFll(DefaultGaitPattern(v), out, DefaultGaitPatternComment(v));
-  std::printf("wrote %s: N_r = %zu gaits, %zu rules\n", out.c_str(), v.size(), 5 * v.size());
+  if (!quiet) {
+    std::printf("wrote %s: N_r = %zu gaits, %zu rules\n", out.c_str(), v.size(), 5 * v.size());
+  }
   return 0;
 }
 
@@ -238,36 +248,56 @@ int RunFisGenerate(const std::string& gaits_dir, const std::string& out) {
 Command RegisterTrain(CLI::App* app) {
   auto a = std::make_shared<TrainArgs>();
   CLI::App* cmd = app->add_subcommand("train", "Train the CMACs of every reference gait");
-  cmd->add_option("--gaits", a->gaits, "Gait database directory");
-  cmd->add_option("--out", a->out, "Networks directory");
+  DataDefault(cmd,
+              cmd->add_option("--gaits", a->gaits,
+                              "Gait database folder (a default is below the data root)"),
+              &a->gaits);
+  DataDefault(cmd,
+              cmd->add_option("--out,-o", a->out,
+                              "Networks folder to write (a default is below the data root)"),
+              &a->out);
   cmd->add_option("--method", a->method, "ceres (sparse least squares) or lms (eq. 7)")
       ->check(CLI::IsMember({"ceres", "lms"}));
-  cmd->add_option("--beta", a->beta, "LMS learning rate (0, 1]");
-  cmd->add_option("--epochs", a->epochs, "LMS passes over the samples");
+  cmd->add_option("--beta", a->beta, "LMS: learning rate, in (0, 1]");
+  cmd->add_option("--epochs", a->epochs, "LMS: passes over the samples");
   cmd->add_option("--smoothness", a->smoothness, "Ceres: neighbour-difference weight");
   cmd->add_flag("--compare", a->compare, "Also fit with the other method and print its RMS/time");
+  cmd->add_flag("--quiet,-q", a->quiet, "Print nothing but errors (no table of the fits)");
   return {cmd, [a] { return RunTrain(*a); }};
 }
 
 Command RegisterFis(CLI::App* app) {
-  CLI::App* fis = app->add_subcommand("fis", "The gait pattern's fuzzy system");
+  CLI::App* fis = app->add_subcommand("fis", "The gait pattern's fuzzy system: eval, generate");
   fis->require_subcommand(1);
   auto a = std::make_shared<FisArgs>();
   CLI::App* eval = fis->add_subcommand("eval", "Rule activations at X = [V_M, d_obs]");
-  eval->add_option("fll", a->fll, "FLL file (default gaits/gait_pattern.fll)");
+  DataDefault(eval, eval->add_option("fll", a->fll, "FLL file (a default is below the data root)"),
+              &a->fll);
   eval->add_option("--vm", a->v_m, "Average velocity V_M, m/s")->required();
   eval->add_option("--dobs", a->d_obs, "Distance to the next obstacle, m (1 = none)");
   CLI::Option* e =
       eval->add_option("--e-deg", a->e, "Stance hip angle e, deg: print the merged references");
-  eval->add_option("--networks", a->networks, "Networks directory (with --e)");
+  DataDefault(
+      eval,
+      eval->add_option("--networks", a->networks,
+                       "Networks folder, read with --e-deg (a default is below the data root)"),
+      &a->networks);
   auto gen_gaits = std::make_shared<std::string>("gaits/reference");
   auto gen_out = std::make_shared<std::string>("gaits/gait_pattern.fll");
   CLI::App* gen = fis->add_subcommand(
       "generate", "Write the default gait pattern (Table 3 generalised) for a gait database");
-  gen->add_option("--gaits", *gen_gaits, "Gait database directory");
-  gen->add_option("--out", *gen_out, "FLL file to write");
-  return {fis, [a, e, gen, gen_gaits, gen_out] {
-            if (gen->parsed()) return RunFisGenerate(*gen_gaits, *gen_out);
+  DataDefault(gen,
+              gen->add_option("--gaits", *gen_gaits,
+                              "Gait database folder (a default is below the data root)"),
+              gen_gaits.get());
+  DataDefault(
+      gen,
+      gen->add_option("--out,-o", *gen_out, "FLL file to write (a default is below the data root)"),
+      gen_out.get());
+  auto gen_quiet = std::make_shared<bool>(false);
+  gen->add_flag("--quiet,-q", *gen_quiet, "Print nothing but errors");
+  return {fis, [a, e, gen, gen_gaits, gen_out, gen_quiet] {
+            if (gen->parsed()) return RunFisGenerate(*gen_gaits, *gen_out, *gen_quiet);
             a->has_e = e->count() > 0;
             return RunFisEval(*a);
           }};

@@ -4,7 +4,9 @@
 #include <iostream>
 #include <vector>
 
+#include "cli/app.h"
 #include "cli/commands.h"
+#include "cli/data_root.h"
 #include "rabbit/io/error.h"
 #include "rabbit/scenario/ranks.h"
 
@@ -18,13 +20,7 @@ int Fail(const std::exception& e) {
 
 int Main(int argc, char** argv) {
   CLI::App app{"rabbit-gait: offline design of biped gaits for the RABBIT robot", "rabbit"};
-  app.set_version_flag("--version", std::string("rabbit ") + RABBIT_VERSION);
-  app.require_subcommand(1);
-  const std::vector<rabbit::cli::Command> commands = {
-      rabbit::cli::RegisterSimulate(&app), rabbit::cli::RegisterGaits(&app),
-      rabbit::cli::RegisterTrain(&app),    rabbit::cli::RegisterFis(&app),
-      rabbit::cli::RegisterRun(&app),      rabbit::cli::RegisterReport(&app),
-      rabbit::cli::RegisterTune(&app)};
+  const std::vector<rabbit::cli::Command> commands = rabbit::cli::BuildApp(&app);
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
@@ -32,6 +28,7 @@ int Main(int argc, char** argv) {
     return code == 0 ? 0 : 2;
   }
   try {
+    rabbit::cli::ResolveDataDefaults();
     for (const rabbit::cli::Command& command : commands) {
       if (command.app->parsed()) return command.run();
     }

@@ -10,9 +10,9 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "rabbit/io/error.h"
 #include "rabbit/report/shards.h"
 #include "rabbit/report/suite_report.h"
-#include "rabbit/io/error.h"
 #include "rabbit/scenario/ranks.h"
 #include "tune_report.h"
 
@@ -36,8 +36,9 @@ int Report(const ReportArgs& args) {
   std::vector<std::string> warnings;
   if (fs::exists(fs::path(args.dir) / ".rabbit-tune")) {  // a tuning job's folder
     if (!fs::exists(fs::path(args.dir) / "meta.csv")) {
-      throw InputError(args.dir, 0, "", "a tuning job that has not finished (or only its shards): "
-                                        "finish it with rabbit tune JOB --resume");
+      throw InputError(args.dir, 0, "",
+                       "a tuning job that has not finished (or only its shards): "
+                       "finish it with rabbit tune JOB --resume");
     }
     TuneReportOptions options;
     options.gnuplot = args.options.gnuplot;
@@ -95,17 +96,16 @@ Command RegisterReport(CLI::App* app) {
                   "Report directory written by `rabbit run` (has summary.csv, or shards/ to merge)")
       ->required();
   cmd->add_option("--gnuplot", args->options.gnuplot,
-                  "gnuplot executable for the figures (default: gnuplot on PATH); without it "
+                  "gnuplot executable for the figures (searched on PATH without a '/'); without it "
                   "the page has tables and replays only");
-  cmd->add_option("--replay-fps", args->options.replay_fps,
-                  "Frames per second of the replays (default 25)");
+  cmd->add_option("--replay-fps", args->options.replay_fps, "Frames per second of the replays");
   cmd->add_option("--stick-window", args->options.stick_window,
-                  "Seconds of walking per stick diagram (default 3)");
+                  "Seconds of walking per stick diagram");
   cmd->add_option("--stick-every", args->options.stick_every,
-                  "Seconds between the figures of a stick diagram (default 0.1)");
+                  "Seconds between the figures of a stick diagram");
   cmd->add_option("--family-details", args->options.family_details,
                   "Figures, steps and replays for the first N members of each family only "
-                  "(default 3; -1: every member)");
+                  "(-1: every member)");
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but warnings and errors");
   return {cmd, [args] { return RunReport(*args); }};
 }

@@ -29,6 +29,8 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/data_root.h"
+#include "cli/run_summary.h"
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/error.h"
 #include "rabbit/report/comparison.h"
@@ -57,6 +59,7 @@ struct RunArgs {
   std::string shard_text;
   bool resume = false;
   bool quiet = false;
+  bool verbose = false;
   bool html = true;
   SuiteReportOptions report;
   // Parsed from the above.
@@ -64,13 +67,8 @@ struct RunArgs {
   Shard shard;
 };
 
-// The default suite: scenarios/paper.toml below the working directory, else the one shipped with
-// the sources this binary was built from.
-std::string DefaultSuite() {
-  if (fs::exists(kDefaultSuite)) return kDefaultSuite;
-  const fs::path shipped = fs::path(RABBIT_SOURCE_DIR) / kDefaultSuite;
-  return fs::exists(shipped) ? shipped.string() : kDefaultSuite;
-}
+// The default suite: scenarios/paper.toml below the data root (cli/data_root.h).
+std::string DefaultSuite() { return DataPath(kDefaultSuite); }
 
 // A staging folder's marker (which plan it holds) and lock (which process writes it).
 constexpr const char* kStagingMarker = ".rabbit-staging";
@@ -152,6 +150,7 @@ struct KillSwitch {
 
 struct SuiteOutcome {
   int failed_required = 0;  // rank 0's count (0 elsewhere)
+  RunTally tally;           // rank 0's (empty elsewhere)
 };
 
 // Runs a suite (its shard's jobs, if sharded) over the ranks into rank 0's staging folder; the
@@ -211,6 +210,7 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& plan,
       const bool main_variant = r.run == jobs[k].scenario->name;
       if (!r.passed && main_variant && jobs[k].scenario->required) ++outcome.failed_required;
     }
+    TallyRuns(suite.name, jobs, batch.runs, &outcome.tally);
     if (!suite.targets.empty()) {
       WriteFileAtomically((staging / kTargetsFile).string(),
                           [&suite](std::ostream& out) { out << TargetsCsv(suite); });
@@ -256,18 +256,7 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& plan,
                 suite.name.c_str(), suite.file.c_str(), runs.c_str(), wall, where.c_str(),
                 wall > 0 ? 60.0 * static_cast<double>(todo.size()) / wall : 0.0,
                 wall > 0 ? simulated_now / wall : 0.0);
-    std::printf("%-34s %-10s %-6s %6s %8s %9s %8s\n", "run", "outcome", "pass", "steps", "dist m",
-                "|V-Vd| m/s", "L_step m");
-    for (size_t k = 0; k < jobs.size(); ++k) {
-      const RunBrief& r = batch.runs[k];
-      std::printf(
-          "%-34s %-10s %-6s %6d %8.2f %9.3f %8.3f\n", r.run.c_str(), OutcomeName(r.outcome),
-          r.passed ? "yes"
-                   : (r.run == jobs[k].scenario->name && jobs[k].scenario->required ? "NO" : "no"),
-          r.metrics.steps, r.metrics.distance, r.metrics.mean_abs_speed_error,
-          r.metrics.l_step_mean);
-      for (const std::string& f : r.failures) std::printf("    - %s\n", f.c_str());
-    }
+    PrintRunTable(stdout, suite.name, jobs, batch.runs, args.verbose);
     if (args.sharded) {
       std::printf("wrote      %s\n", (target.written / "summary.csv").string().c_str());
       std::printf("merge      rabbit report %s (once all %d shards are written)\n",
@@ -394,6 +383,7 @@ int RunRun(RunArgs args) {
     return 2;
   }
   if (args.suites.empty()) args.suites.push_back(DefaultSuite());
+  if (args.verbose && !args.quiet && Ranks::root()) std::printf("%s\n", DataRootLine().c_str());
   std::vector<Suite> suites;
   std::vector<std::vector<BatchJob>> plans;
   std::vector<SuiteTarget> targets;
@@ -478,9 +468,12 @@ int RunRun(RunArgs args) {
   KillSwitch kill;
   if (const char* after = std::getenv("RABBIT_RUN_KILL_AFTER")) kill.after = std::atoi(after);
   int failed = 0;
+  RunTally tally;  // rank 0's
   for (size_t i = 0; i < suites.size(); ++i) {
-    failed += RunOneSuite(suites[i], plans[i], targets[i], args, &libraries, finished[i], &kill)
-                  .failed_required;
+    SuiteOutcome outcome =
+        RunOneSuite(suites[i], plans[i], targets[i], args, &libraries, finished[i], &kill);
+    failed += outcome.failed_required;
+    TallyMerge(outcome.tally, &tally);
   }
   RunAgreed([&] {
     if (!Ranks::root()) return;
@@ -499,6 +492,7 @@ int RunRun(RunArgs args) {
       staged[i]->keep = true;
     }
   });
+  if (Ranks::root() && !args.quiet) std::printf("%s\n", VerdictLine(tally).c_str());
   // Every rank returns rank 0's verdict.
   if (Ranks::Broadcast(failed > 0 ? "1" : "0") == "1") {
     if (Ranks::root()) {
@@ -515,32 +509,41 @@ Command RegisterRun(CLI::App* app) {
   auto args = std::make_shared<RunArgs>();
   CLI::App* cmd = app->add_subcommand(
       "run", "Run scenario suites in parallel and write their report (default: the paper suite)");
-  cmd->add_option("suites", args->suites,
-                  std::string("Suite files (TOML; default ") + kDefaultSuite + ")");
-  cmd->add_option("--out,-o", args->out,
-                  "Report folder (one suite; default reports/<suite name>), or the parent of the "
-                  "suites' folders (several)");
+  cmd->add_option(
+         "suites", args->suites,
+         std::string("Suite files (TOML; default: ") + kDefaultSuite + " below the data root)")
+      ->default_str("");  // not "[]"
+  cmd->add_option(
+      "--out,-o", args->out,
+      "Report folder to write (one suite; default: reports/<suite name>), or the parent of "
+      "the suites' report folders (several)");
   cmd->add_option("--jobs,-j", args->jobs,
-                  "Threads per process (default: all cores, shared by the MPI ranks of a machine)")
+                  "Threads per process (0: all cores, shared by the MPI ranks of a machine)")
       ->check(CLI::Range(0, 1024));
-  cmd->add_option("--filter", args->filter, "Run only scenarios whose name matches this regex");
+  cmd->add_option("--filter", args->filter,
+                  "Run only scenarios whose name matches this regex (default: all)");
   cmd->add_option("--params", args->params,
                   "Parameter overlay (TOML [params], e.g. a tuning job's best.toml) over every "
-                  "scenario's settings");
-  cmd->add_option("--shard", args->shard_text,
-                  "Run only shard I of N (e.g. 2/8): the jobs i of each suite with i mod N = I-1, "
-                  "into DIR/shards/I-of-N/; rabbit report DIR merges the N shards");
+                  "scenario's settings (default: none)");
+  cmd->add_option(
+      "--shard", args->shard_text,
+      "Run only shard I of N (e.g. 2/8): the jobs i of each suite with i mod N = I-1, "
+      "into DIR/shards/I-of-N/; rabbit report DIR merges the N shards (default: all jobs)");
   cmd->add_flag("--resume", args->resume,
                 "Continue a run that was killed: keep the runs it finished (in DIR.partial) and "
                 "run only the rest, for the same suites, --out, --params and --filter");
-  cmd->add_option("--gnuplot", args->report.gnuplot, "gnuplot executable for the figures");
+  cmd->add_option("--gnuplot", args->report.gnuplot,
+                  "gnuplot executable for the figures (searched on PATH without a '/')");
   cmd->add_option("--family-details", args->report.family_details,
                   "Figures, steps and replays for the first N members of each family only "
-                  "(default 3; -1: every member)");
+                  "(-1: every member)");
   cmd->add_flag(
       "--no-html", [args](std::int64_t) { args->html = false; },
       "Write the CSV files only (summary.csv, comparison.csv, the runs')");
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but errors and warnings");
+  cmd->add_flag("--verbose,-v", args->verbose,
+                "Print the data root and every run in the table (default: a family's failed "
+                "runs and its success rates only)");
   return {cmd, [args] { return RunRun(*args); }};
 }
 

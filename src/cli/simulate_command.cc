@@ -8,11 +8,11 @@
 #include "cli/commands.h"
 #include "rabbit/io/error.h"
 #include "rabbit/model/model.h"
+#include "rabbit/scenario/params.h"
 #include "rabbit/scenario/run.h"
 #include "rabbit/scenario/scenario.h"
 #include "rabbit/scenario/suite.h"
 #include "rabbit/scenario/trajectory_csv.h"
-#include "rabbit/scenario/params.h"
 #include "rabbit/sim/simulator.h"
 
 namespace rabbit::cli {
@@ -94,12 +94,13 @@ Command RegisterSimulate(CLI::App* app) {
       app->add_subcommand("simulate", "Run one scenario and write its full time series");
   cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
   cmd->add_option("--out,-o", args->out,
-                  "Output CSV (default: reports/<scenario name>/trajectory.csv)");
-  cmd->add_option("--integrator", args->integrator, "Override the scenario's integrator")
+                  "Trajectory CSV file to write (default: reports/<scenario name>/trajectory.csv)");
+  cmd->add_option("--integrator", args->integrator,
+                  "Override the scenario's integrator (default: the scenario's)")
       ->check(CLI::IsMember({"arkode", "cvode", "cvode-adams"}));
   cmd->add_option("--params", args->params,
                   "Parameter overlay (TOML [params], e.g. a tuning job's best.toml) over the "
-                  "scenario's settings");
+                  "scenario's settings (default: none)");
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but errors");
   return {cmd, [args] { return RunSimulate(*args); }};
 }

@@ -43,13 +43,13 @@ int RunTuneCommand(TuneArgs args) {
   args.options.threads = ThreadsPerRank(args.options.threads);
   const bool talk = !args.options.quiet && Ranks::root();
   if (talk) {
-    std::printf("job        %s (%s): %s, %zu parameters, budget %d evaluations, %d search%s, seed "
-                "%llu%s\n",
-                job.name.c_str(), job.file.c_str(), TuneAlgorithmName(job.algorithm),
-                job.parameters.size(), job.max_evaluations, job.starts,
-                job.starts == 1 ? "" : "es", static_cast<unsigned long long>(job.seed),
-                Ranks::size() > 1 ? (", " + std::to_string(Ranks::size()) + " ranks").c_str()
-                                  : "");
+    std::printf(
+        "job        %s (%s): %s, %zu parameters, budget %d evaluations, %d search%s, seed "
+        "%llu%s\n",
+        job.name.c_str(), job.file.c_str(), TuneAlgorithmName(job.algorithm), job.parameters.size(),
+        job.max_evaluations, job.starts, job.starts == 1 ? "" : "es",
+        static_cast<unsigned long long>(job.seed),
+        Ranks::size() > 1 ? (", " + std::to_string(Ranks::size()) + " ranks").c_str() : "");
     std::fflush(stdout);
   }
   double best = 0.0;
@@ -75,8 +75,8 @@ int RunTuneCommand(TuneArgs args) {
     }
     const Evaluation& initial = result.evaluations[result.initial];
     const Evaluation& b = result.evaluations[result.best];
-    std::printf("best       objective %.6g at evaluation %d (initial %.6g, %+.1f%%)\n",
-                b.objective, b.index, initial.objective,
+    std::printf("best       objective %.6g at evaluation %d (initial %.6g, %+.1f%%)\n", b.objective,
+                b.index, initial.objective,
                 initial.objective != 0.0
                     ? 100.0 * (b.objective - initial.objective) / std::abs(initial.objective)
                     : 0.0);
@@ -97,18 +97,24 @@ Command RegisterTune(CLI::App* app) {
   auto args = std::make_shared<TuneArgs>();
   CLI::App* cmd = app->add_subcommand(
       "tune", "Tune parameters over scenario suites with NLopt or Ceres (a job file)");
-  cmd->add_option("job", args->job, "Tuning job (TOML; see docs/formats/tune-job.md)")->required();
-  cmd->add_option("--out,-o", args->options.out, "Output folder (default reports/<job name>)");
-  cmd->add_option("--jobs,-j", args->options.threads, "Threads per process (default: all cores)")
+  cmd->add_option("job", args->job,
+                  "Tuning job (TOML, docs/formats/tune-job.md; shipped ones: optimizers/jobs/ below the data root)")
+      ->required();
+  cmd->add_option("--out,-o", args->options.out,
+                  "Job folder to write: log, best.toml, report (default: reports/<job name>)");
+  cmd->add_option("--jobs,-j", args->options.threads, "Threads per process (0: all cores)")
       ->check(CLI::Range(0, 1024));
   cmd->add_option("--params", args->params,
-                  "Parameter overlay under the tuned values (over the job's own `params`)");
-  cmd->add_option("--gnuplot", args->options.gnuplot, "gnuplot executable for the figures");
+                  "Parameter overlay under the tuned values (over the job's own `params`; default: "
+                  "none)");
+  cmd->add_option("--gnuplot", args->options.gnuplot,
+                  "gnuplot executable for the figures (searched on PATH without a '/')");
   cmd->add_flag("--resume", args->options.resume,
                 "Continue the job's log (after an interruption, or to merge shards)");
   cmd->add_flag("--force", args->options.force, "Discard an existing log and start over");
-  cmd->add_option("--shard", args->shard,
-                  "Run only the searches s with s mod N = I - 1 (I/N, for array jobs)");
+  cmd->add_option(
+      "--shard", args->shard,
+      "Run only the searches s with s mod N = I - 1 (I/N, for array jobs; default: all)");
   cmd->add_flag(
       "--no-html", [args](std::int64_t) { args->options.html = false; }, "No index.html");
   cmd->add_flag("--quiet,-q", args->options.quiet, "Print nothing but errors and warnings");

@@ -359,11 +359,12 @@ std::string RunShortLabel(const SummaryRow& row) {
 }
 
 std::string VariantColor(const std::string& variant) {
-  if (variant == "fuzzy_cmac" || variant == "main") return "#1b9e77";
-  if (variant == "pragmatic") return "#d95f02";
-  if (variant == "nearest_gait") return "#7570b3";
-  if (variant == "multi_cmac") return "#e7298a";
-  static const char* const kOthers[] = {"#e7298a", "#66a61e", "#a6761d", "#e6ab02"};
+  // The Okabe-Ito palette: distinct for the common colour-vision deficiencies.
+  if (variant == "fuzzy_cmac" || variant == "main") return "#0072B2";
+  if (variant == "pragmatic") return "#E69F00";
+  if (variant == "nearest_gait") return "#009E73";
+  if (variant == "multi_cmac") return "#CC79A7";
+  static const char* const kOthers[] = {"#D55E00", "#56B4E9", "#000000", "#F0E442"};
   size_t h = 0;
   for (char c : variant) h = h * 31 + static_cast<unsigned char>(c);
   return kOthers[h % std::size(kOthers)];

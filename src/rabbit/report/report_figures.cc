@@ -16,11 +16,12 @@ namespace report_internal {
 namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
-const char* const kLegColors[2] = {"#1f77b4", "#d62728"};  // leg 1, leg 2 (as in the replay script)
+const char* const kLegColors[2] = {"#0072B2", "#D55E00"};  // leg 1, leg 2 (as in the replay script)
 const char* const kTrunkColor = "#404040";
-// Fuzzy weights w_O1, w_O2, ...: the reference gaits from slow to fast (viridis), then others.
-const char* const kWeightColors[] = {"#440154", "#3b528b", "#21918c", "#5ec962",
-                                     "#fde725", "#e7298a", "#a6761d", "#666666"};
+// Fuzzy weights w_O1, w_O2, ...: the reference gaits from slow to fast, eight steps of viridis
+// (ordered, and readable with the common colour-vision deficiencies).
+const char* const kWeightColors[] = {"#440154", "#46327e", "#365c8d", "#277f8e",
+                                     "#1fa187", "#4ac16d", "#a0da39", "#fde725"};
 
 std::string Printf(const char* format, double v) {
   char buffer[64];

@@ -1,8 +1,10 @@
 // The HTML pieces of the report page (report_page.h).
 #include "rabbit/report/report_page.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <sstream>
 
 #include "rabbit/report/svg.h"
@@ -60,7 +62,10 @@ td.criteria li+li:before{content:"\2022\00a0";color:#c0a0a0}
 td.variant{text-align:left;white-space:nowrap}
 td.variant.baseline{font-style:italic;color:#4a5058}
 td.status{white-space:nowrap}
-.reason{font-size:12px;color:var(--muted);white-space:normal;min-width:160px;max-width:240px}
+.reason{font-size:11.5px;color:var(--muted);white-space:normal;min-width:110px;max-width:150px}
+table.summary{font-size:12px}
+table.summary td,table.summary th{padding:3px 3px}
+table.summary th{font-size:11.5px}
 tr.pass td.status{background:var(--pass);color:#16652a;font-weight:700}
 tr.fail td.status{background:var(--fail);color:#a3150f;font-weight:700}
 tr.group-start td{border-top:2px solid #9aa3ad}
@@ -82,6 +87,11 @@ code{background:#f3f4f6;padding:0 3px;border-radius:3px}
 .muted{color:var(--muted)}
 table.comparison td.rate{font-variant-numeric:tabular-nums}
 .group{margin:18px 0 8px}
+.verdict{font-size:16px;padding:8px 12px;border-radius:4px;margin:12px 0 4px}
+.verdict.pass{background:var(--pass)}
+.verdict.fail{background:var(--fail)}
+details.run-detail>summary{font-size:15px;margin:6px 0}
+th{white-space:normal}
 )css";
 
 const char kErrorCounter[] =
@@ -99,13 +109,13 @@ const char kErrorCounter[] =
 const char kReplayScript[] = R"js(
 (function(){
   var root=document.documentElement;
-  var LEG=['#1f77b4','#d62728'], TRUNK='#404040';
+  var LEG=['#0072B2','#D55E00'], TRUNK='#404040';
   function Replay(el){
     var d=JSON.parse(el.querySelector('script.replay-data').textContent);
     var canvas=el.querySelector('canvas'), ctx=canvas.getContext('2d');
     var button=el.querySelector('button.play'), slider=el.querySelector('input.seek');
     var speed=el.querySelector('select.speed'), label=el.querySelector('.time');
-    var n=d.t.length, frame=0, playing=false, last=0, clock=0;
+    var n=d.t.length, frame=Math.max(0,Math.min(n-1,d.start||0)), playing=false, last=0, clock=0;
     var W=canvas.width, H=canvas.height, ratio=window.devicePixelRatio||1;
     canvas.width=Math.round(W*ratio); canvas.height=Math.round(H*ratio);
     slider.max=String(Math.max(0,n-1));
@@ -195,6 +205,10 @@ const char kReplayScript[] = R"js(
   for(var i=0;i<all.length;i++){
     try{Replay(all[i]);drawn++;}catch(e){rabbitCountError();if(window.console)console.error(e);}
   }
+  // A link to a scenario opens its collapsed detail.
+  function openTarget(){var id=location.hash.slice(1); var el=id&&document.getElementById(id);
+    var d=el&&el.querySelector('details'); if(d) d.open=true;}
+  window.addEventListener('hashchange',openTarget); openTarget();
   root.dataset.replayCount=String(drawn);
   root.dataset.replay=drawn===all.length?'ready':'failed';
 })();
@@ -208,6 +222,12 @@ std::string ReplayJson(const RunData& run, const SuiteReportOptions& options) {
   std::string t, p, c;
   size_t hint = 0;
   int frames = 0;
+  // The frame the replay opens on: near the first event, a second of walking before the hip
+  // reaches the first obstacle, else 3 s before the end of a run that did not complete, else 0.
+  int start = -1;
+  const double event_x = run.terrain.obstacles.empty()
+                             ? std::numeric_limits<double>::infinity()
+                             : run.terrain.obstacles.front().x_start - 0.6;
   double fps = options.replay_fps;
   if (!tr.t.empty()) {
     const double t0 = tr.t.front(), span = tr.t.back() - t0;
@@ -231,8 +251,14 @@ std::string ReplayJson(const RunData& run, const SuiteReportOptions& options) {
             (i == 0 ? "" : ",") + JsonNumber(points[i].x, dec) + ',' + JsonNumber(points[i].y, dec);
       }
       c += std::to_string(contact);
+      if (start < 0 && f.hip.x >= event_x) start = std::max(0, k - static_cast<int>(fps));
       ++frames;
     }
+  }
+  if (start < 0) {
+    start = run.row.outcome == "completed" || frames == 0
+                ? 0
+                : std::max(0, frames - 1 - static_cast<int>(3.0 * fps));
   }
   std::string obs;
   const Terrain& terrain = run.terrain;
@@ -256,9 +282,10 @@ std::string ReplayJson(const RunData& run, const SuiteReportOptions& options) {
     steps += (steps.empty() ? "" : ",") + JsonNumber(s.t, dec) + ',' + JsonNumber(s.v_d, 3) + ',' +
              JsonNumber(v_m, 3) + ',' + JsonNumber(s.l_step, 3);
   }
-  return "{\"fps\":" + JsonNumber(fps, 6) + ",\"frames\":" + std::to_string(frames) + ",\"t\":[" +
-         t + "],\"p\":[" + p + "],\"c\":[" + (tr.contact.empty() ? "" : c) + "],\"obs\":[" + obs +
-         "],\"g\":[" + ground + "],\"s\":[" + steps + "]}";
+  return "{\"fps\":" + JsonNumber(fps, 6) + ",\"frames\":" + std::to_string(frames) +
+         ",\"start\":" + std::to_string(start) + ",\"t\":[" + t + "],\"p\":[" + p + "],\"c\":[" +
+         (tr.contact.empty() ? "" : c) + "],\"obs\":[" + obs + "],\"g\":[" + ground + "],\"s\":[" +
+         steps + "]}";
 }
 }  // namespace
 
@@ -282,8 +309,8 @@ std::string ReplayHtml(const RunData& run, size_t index, const SuiteReportOption
   return html.str();
 }
 
-std::string SummaryTable(const std::vector<RunData>& runs,
-                         const std::vector<ScenarioGroup>& groups) {
+std::string SummaryTable(const std::vector<RunData>& runs, const std::vector<ScenarioGroup>& groups,
+                         const std::vector<size_t>& which) {
   const int kColumns = 14;
   std::ostringstream html;
   html << "<div class=\"table-wrap\"><table class=\"summary\"><thead><tr>"
@@ -295,7 +322,11 @@ std::string SummaryTable(const std::vector<RunData>& runs,
           "<th>cost of<br>transport</th><th>wall "
           "s<br>(&times;&nbsp;real&nbsp;time)</th></tr></thead>"
           "<tbody>\n";
-  for (size_t g = 0; g < groups.size(); ++g) {
+  std::vector<size_t> shown = which;
+  if (shown.empty()) {
+    for (size_t g = 0; g < groups.size(); ++g) shown.push_back(g);
+  }
+  for (size_t g : shown) {
     const ScenarioGroup& group = groups[g];
     size_t rows = 0;
     for (size_t k : group.runs) rows += runs[k].row.failed.empty() ? 1 : 2;

@@ -26,9 +26,10 @@ extern const char kReplayScript[];
 // One run's replay: a canvas, its controls and the frames as JSON; index makes its id unique.
 std::string ReplayHtml(const RunData& run, size_t index, const SuiteReportOptions& options);
 
-// The summary table: one row per run (and one per run with failed criteria), grouped by scenario.
-std::string SummaryTable(const std::vector<RunData>& runs,
-                         const std::vector<ScenarioGroup>& groups);
+// The summary table: one row per run (and one per run with failed criteria), grouped by scenario;
+// the groups listed in `which` only (empty: all). A group's link is #scenario-<its index>.
+std::string SummaryTable(const std::vector<RunData>& runs, const std::vector<ScenarioGroup>& groups,
+                         const std::vector<size_t>& which = {});
 
 // The head-to-head table of one group: a row per variant (the main one first).
 std::string ComparisonTable(const std::vector<const VariantComparison*>& variants);

@@ -4,6 +4,7 @@
 #include "rabbit/report/suite_report.h"
 
 #include <cmath>
+#include <cstdio>
 #include <ctime>
 #include <filesystem>
 #include <map>
@@ -130,6 +131,76 @@ StickFigure StickPoints(const std::array<double, 7>& q, const LinkLengths& lengt
   }
   return f;
 }
+
+namespace {
+
+// The verdict at the top of the page: the main runs and the baselines passed, and each family's
+// success rate with its 95% Wilson interval (from the head-to-head).
+std::string VerdictHtml(const std::vector<SummaryRow>& rows,
+                        const std::vector<VariantComparison>& comparison) {
+  int main_runs = 0, main_passed = 0, baselines = 0, baselines_passed = 0;
+  for (const SummaryRow& r : rows) {
+    const bool main = IsMainRun(r);
+    (main ? main_runs : baselines) += 1;
+    (main ? main_passed : baselines_passed) += r.passed ? 1 : 0;
+  }
+  std::ostringstream html;
+  html << "<p class=\"verdict " << (main_passed == main_runs ? "pass" : "fail")
+       << "\"><b>Verdict</b>: " << main_passed << " of " << main_runs
+       << " scenario runs passed their criteria";
+  if (main_passed != main_runs) html << " (" << main_runs - main_passed << " failed)";
+  if (baselines > 0) {
+    html << "; baselines " << baselines_passed << " of " << baselines << " passed";
+  }
+  for (const VariantComparison& c : comparison) {
+    if (!c.family || c.role != "main") continue;
+    char rate[96];
+    std::snprintf(rate, sizeof rate, "%d/%d passed (%.0f%%, 95%% CI %.0f&ndash;%.0f%%)", c.passed,
+                  c.runs, 100.0 * c.success_rate, 100.0 * c.ci.low, 100.0 * c.ci.high);
+    html << "; family <a href=\"#head-to-head\">" << HtmlEscape(c.group) << "</a> " << rate;
+  }
+  html << ".</p>\n<p class=\"note\">A failed run fails <code>rabbit run</code> (exit 1) only "
+          "when its scenario is required (the table <code>rabbit run</code> prints marks it "
+          "<b>NO</b>; an optional scenario's or a baseline's failure <b>no</b>). Each scenario's "
+          "figures, steps and replays are one click away, below the summary.</p>\n";
+  return html.str();
+}
+
+// The summary: the plain scenarios' runs in one table, then each family's members in a table of
+// their own, collapsed under a line with the family's count of passed runs.
+std::string SummaryTables(const std::vector<RunData>& runs,
+                          const std::vector<ScenarioGroup>& groups) {
+  std::vector<size_t> plain;
+  std::vector<std::string> families;
+  std::map<std::string, std::vector<size_t>> members;
+  for (size_t g = 0; g < groups.size(); ++g) {
+    const SummaryRow& row = runs[groups[g].runs.front()].row;
+    if (!row.is_family_member) {
+      plain.push_back(g);
+      continue;
+    }
+    if (members.count(row.group) == 0) families.push_back(row.group);
+    members[row.group].push_back(g);
+  }
+  std::ostringstream html;
+  if (!plain.empty()) html << SummaryTable(runs, groups, plain);
+  for (const std::string& family : families) {
+    int n = 0, passed = 0;
+    for (size_t g : members[family]) {
+      for (size_t k : groups[g].runs) {
+        ++n;
+        passed += runs[k].row.passed ? 1 : 0;
+      }
+    }
+    html << "<details class=\"family-table\"><summary>Family " << HtmlEscape(family) << ": "
+         << members[family].size() << " members, " << passed << " of " << n
+         << " runs passed (every run, one row each)</summary>\n"
+         << SummaryTable(runs, groups, members[family]) << "</details>\n";
+  }
+  return html.str();
+}
+
+}  // namespace
 
 std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& options,
                              std::vector<std::string>* warnings) {
@@ -265,6 +336,7 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
        << ". Variants: the Fuzzy-CMAC walker, and as baselines the pragmatic rules at the "
           "nearest reference gait and the Fuzzy-CMAC with its weights rounded to the strongest "
           "rule.</p>\n";
+  html << VerdictHtml(rows, comparison);
   if (!have_figures) html << "<p class=\"warning\">" << HtmlEscape(figure_error) << "</p>\n";
   html << "<section id=\"head-to-head\"><h2 style=\"border:0;margin-top:20px\">Head-to-head</h2>\n"
        << "<p class=\"note\">Per group (a family: all its members together; a plain scenario: "
@@ -293,40 +365,50 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
   html << "<h2>Summary</h2>\n<p class=\"note\">One row per run, "
           "grouped by scenario, baselines in italics below their scenario's main variant; "
           "&ndash; marks a value the run could not measure.</p>\n"
-       << SummaryTable(runs, groups);
+       << SummaryTables(runs, groups);
 
+  // Per scenario shown in detail: its section, the figures, steps and replays one click away. The
+  // family members not shown in detail get one line per family instead of a section each.
   size_t replay_index = 0;
+  std::map<std::string, std::vector<size_t>> brief_members;  // family -> its groups not shown
+  std::vector<std::string> family_order;
   for (size_t g = 0; g < groups.size(); ++g) {
     const ScenarioGroup& group = groups[g];
     const RunData& main = runs[group.runs.front()];
-    const bool detail = detailed.count(group.name) != 0;
+    if (detailed.count(group.name) == 0) {
+      if (brief_members.count(main.row.group) == 0) family_order.push_back(main.row.group);
+      brief_members[main.row.group].push_back(g);
+      continue;
+    }
     html << "<section id=\"scenario-" << g << "\"><h2>" << HtmlEscape(group.name) << "</h2>\n";
     if (!main.description.empty()) html << "<p>" << HtmlEscape(main.description) << "</p>\n";
-    html << "<p class=\"note\">";
-    if (detail) html << "Terrain: " << TerrainText(main.terrain) << ". ";
-    html << "Runs: ";
+    html << "<p class=\"note\">Terrain: " << TerrainText(main.terrain) << ". Runs: ";
     for (size_t i = 0; i < group.runs.size(); ++i) {
       const SummaryRow& r = runs[group.runs[i]].row;
       html << (i == 0 ? "" : "; ") << HtmlEscape(RunLabel(r)) << " <code>" << HtmlEscape(r.run)
            << "</code> " << (r.passed ? "passed" : "failed") << " (" << HtmlEscape(r.outcome)
            << ")";
     }
-    html << ".</p>\n";
-    if (!detail) {
-      html << "<p class=\"note\">No figures, steps or replays: family <em>"
-           << HtmlEscape(main.row.group) << "</em> shows the first " << options.family_details
-           << " of its " << family_size[main.row.group]
-           << " members in detail (<code>rabbit report DIR --family-details N</code>; -1: "
-              "all).</p>\n</section>\n";
-      continue;
-    }
+    html << ".</p>\n<details class=\"run-detail\"><summary>Figures, steps and replays of "
+         << HtmlEscape(group.name) << "</summary>\n";
     if (have_figures) {
       for (size_t k : scenario_figures[g]) html << figures.figure(k).html;
     }
     if (!main.steps.empty()) html << StepsTable(main);
     html << "<h3>Replay</h3>\n";
     for (size_t k : group.runs) html << ReplayHtml(runs[k], replay_index++, options);
-    html << "</section>\n";
+    html << "</details></section>\n";
+  }
+  for (const std::string& family : family_order) {
+    const std::vector<size_t>& members = brief_members[family];
+    html << "<section class=\"family-rest\"><p class=\"note\">";
+    for (size_t g : members) html << "<span id=\"scenario-" << g << "\"></span>";
+    html << "The other " << members.size() << " members of family <em>" << HtmlEscape(family)
+         << "</em> are in the summary table and its head-to-head figure: family <em>"
+         << HtmlEscape(family) << "</em> shows the first " << options.family_details << " of its "
+         << family_size[family]
+         << " members in detail (<code>rabbit report DIR --family-details N</code>; -1: "
+            "all).</p></section>\n";
   }
   html << "</main><script>" << kReplayScript << "</script></body></html>\n";
 

@@ -10,7 +10,10 @@
 namespace rabbit {
 namespace {
 
-const char* const kColors[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd", "#8c564b"};
+// The Okabe-Ito palette (distinct for the common colour-vision deficiencies), yellow last: eight
+// colours, one per reference gait of the shipped database. Legs 1 and 2 are the first two.
+const char* const kColors[] = {"#0072B2", "#D55E00", "#009E73", "#E69F00",
+                               "#CC79A7", "#56B4E9", "#000000", "#F0E442"};
 
 std::string Fmt(double v) {
   char buffer[32];
@@ -88,14 +91,40 @@ std::string StickDiagramSvg(const Model& model, const std::vector<SimSample>& sa
   }
   const double y_lo = ground_lo - 0.05, y_hi = ground_hi + 1.6;
   const double scale = 300.0;  // px per m
+  const double left = 70.0, right = 70.0, bottom = 50.0,
+               top_margin = 30.0;  // px of the axes' labels
   const double w = (x_hi - x_lo) * scale, h = (y_hi - y_lo) * scale;
-  auto X = [&](double x) { return Fmt((x - x_lo) * scale); };
-  auto Y = [&](double y) { return Fmt((y_hi - y) * scale); };
+  auto X = [&](double x) { return Fmt(left + (x - x_lo) * scale); };
+  auto Y = [&](double y) { return Fmt(top_margin + (y_hi - y) * scale); };
   std::ostringstream svg;
-  svg << "<svg xmlns='http://www.w3.org/2000/svg' width='" << Fmt(std::min(w, 1400.0))
-      << "' viewBox='0 0 " << Fmt(w) << ' ' << Fmt(h) << "' style='background:#fff'>";
+  svg << "<svg xmlns='http://www.w3.org/2000/svg' width='"
+      << Fmt(std::min(w + left + right, 1400.0)) << "' viewBox='0 0 " << Fmt(w + left + right)
+      << ' ' << Fmt(top_margin + h + bottom) << "' style='background:#fff'>";
+  // The axes, in metres: x along the ground, y up (the world frame of the simulation).
+  svg << "<g stroke='#333' stroke-width='1.5' font-size='20' font-family='sans-serif' "
+         "fill='#333'>";
+  svg << "<line x1='" << X(x_lo) << "' y1='" << Fmt(top_margin + h + 4) << "' x2='" << X(x_hi)
+      << "' y2='" << Fmt(top_margin + h + 4) << "'/>";
+  const double x_step = TickStep(x_hi - x_lo);
+  for (double x = std::ceil(x_lo / x_step) * x_step; x <= x_hi + 1e-9; x += x_step) {
+    svg << "<line x1='" << X(x) << "' y1='" << Fmt(top_margin + h + 4) << "' x2='" << X(x)
+        << "' y2='" << Fmt(top_margin + h + 12) << "'/><text stroke='none' text-anchor='middle' x='"
+        << X(x) << "' y='" << Fmt(top_margin + h + 34) << "'>" << Fmt(std::abs(x) < 1e-9 ? 0.0 : x)
+        << "</text>";
+  }
+  svg << "<text stroke='none' x='" << Fmt(left + w + 10) << "' y='" << Fmt(top_margin + h + 11)
+      << "'>x (m)</text>";
+  svg << "<line x1='" << Fmt(left - 4) << "' y1='" << Y(y_lo) << "' x2='" << Fmt(left - 4)
+      << "' y2='" << Y(y_hi) << "'/>";
+  const double y_step = TickStep(y_hi - y_lo);
+  for (double y = std::ceil(y_lo / y_step) * y_step; y <= y_hi + 1e-9; y += y_step) {
+    svg << "<line x1='" << Fmt(left - 12) << "' y1='" << Y(y) << "' x2='" << Fmt(left - 4)
+        << "' y2='" << Y(y) << "'/><text stroke='none' text-anchor='end' x='" << Fmt(left - 16)
+        << "' y='" << Y(y) << "' dy='7'>" << Fmt(std::abs(y) < 1e-9 ? 0.0 : y) << "</text>";
+  }
+  svg << "<text stroke='none' x='" << Fmt(left + 6) << "' y='22'>y (m)</text></g>";
   if (terrain.ground.is_flat_zero()) {
-    svg << "<line x1='0' y1='" << Y(0) << "' x2='" << Fmt(w) << "' y2='" << Y(0)
+    svg << "<line x1='" << X(x_lo) << "' y1='" << Y(0) << "' x2='" << X(x_hi) << "' y2='" << Y(0)
         << "' stroke='#555' stroke-width='2'/>";
   } else {
     svg << "<polyline fill='none' stroke='#555' stroke-width='2' points='";

@@ -1,0 +1,32 @@
+// The rabbit app (cli/app.h).
+#include "cli/app.h"
+
+#include <string>
+
+#include "cli/data_root.h"
+
+namespace rabbit::cli {
+
+std::string VersionText() {
+  std::string text = std::string("rabbit ") + RABBIT_VERSION + "\n";
+  try {
+    text += DataRootLine();
+  } catch (const std::exception& e) {  // a bad --data or RABBIT_DATA
+    text += std::string("data root: ") + e.what();
+  }
+  return text;
+}
+
+std::vector<Command> BuildApp(CLI::App* app) {
+  // Every option shows its default in --help (subcommands inherit the option defaults); options
+  // may follow the subcommand that takes them (--data).
+  app->option_defaults()->always_capture_default();
+  app->fallthrough();
+  AddDataOption(app);
+  app->set_version_flag("--version", VersionText, "Print the version and the data root, and exit");
+  app->require_subcommand(1);
+  return {RegisterSimulate(app), RegisterGaits(app),  RegisterTrain(app), RegisterFis(app),
+          RegisterRun(app),      RegisterReport(app), RegisterTune(app)};
+}
+
+}  // namespace rabbit::cli
