@@ -14,7 +14,7 @@ set -euo pipefail
 build=${1:-build}
 root=$(cd "$(dirname "$0")/.." && pwd)
 suite=${2:-$root/scenarios/robustness_train.toml}
-filter=${3:-^obstacle-}
+filter=${3-^obstacle-}
 rabbit=$(realpath "$build/rabbit")
 work=$(mktemp -d "${TMPDIR:-/tmp}/rabbit-ranks-XXXXXX")
 trap 'rm -rf "$work"' EXIT
