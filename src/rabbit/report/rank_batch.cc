@@ -385,7 +385,14 @@ void RunDealtJobs(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCac
     }
   };
   std::vector<std::thread> pool;
-  for (int t = 0; t < threads; ++t) pool.emplace_back(worker);
+  for (int t = 0; t < threads; ++t) {
+    try {
+      pool.emplace_back(worker);
+    } catch (const std::system_error&) {
+      break;  // no more threads to be had: the ones running do the work
+    }
+  }
+  if (pool.empty()) throw std::runtime_error("cannot start a worker thread");
   {
     std::unique_lock<std::mutex> lock(mutex);
     while (!exhausted) {
