@@ -61,7 +61,7 @@ void BM_TrajectoryCsvRows(benchmark::State& state) {
     benchmark::DoNotOptimize(out.str().size());
   }
   state.SetItemsProcessed(state.iterations() * static_cast<long>(run.sim.samples.size()));
-  state.counters["ns_per_number"] = benchmark::Counter(
+  state.counters["s_per_number"] = benchmark::Counter(
       static_cast<double>(state.iterations()) * static_cast<double>(run.sim.samples.size()) * 41.0,
       benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
 }

@@ -166,8 +166,7 @@ SharedCounter::SharedCounter() {
   const MPI_Aint bytes = g_rank == 0 ? sizeof(long long) : 0;
   if (g_local_size == g_size) {
     // One machine: a shared-memory window, whose atomics never wait for rank 0 to enter MPI.
-    MPI_Win_allocate_shared(bytes, sizeof(long long), MPI_INFO_NULL, MPI_COMM_WORLD, &base,
-                            window);
+    MPI_Win_allocate_shared(bytes, sizeof(long long), MPI_INFO_NULL, MPI_COMM_WORLD, &base, window);
   } else {
     MPI_Win_allocate(bytes, sizeof(long long), MPI_INFO_NULL, MPI_COMM_WORLD, &base, window);
   }
