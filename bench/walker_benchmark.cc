@@ -6,6 +6,7 @@
 // drifts).
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
 #include <thread>
 
 #include "rabbit/scenario/batch.h"
@@ -42,14 +43,30 @@ void WalkFlat(benchmark::State& state, const char* variant) {
   const std::shared_ptr<const GaitLibrary> library = Library();
   double simulated = 0.0;
   long steps = 0;
+  IntegratorStats stats;
+  long periods = 0, events = 0;
   for (auto _ : state) {
     const RunOutput run = RunScenario(s, variant, library.get());
     simulated += run.sim.t_end;
     steps += run.metrics.steps;
+    stats = run.sim.integrator;
+    periods = run.sim.num_periods;
+    events = run.sim.num_events;
     benchmark::DoNotOptimize(run.metrics.distance);
   }
   state.counters["rtf"] = benchmark::Counter(simulated, benchmark::Counter::kIsRate);
+  state.counters["s_per_period"] = benchmark::Counter(  // CPU s per control period
+      static_cast<double>(periods) * static_cast<double>(state.iterations()),
+      benchmark::Counter::kIsRate | benchmark::Counter::kInvert);
   state.counters["steps"] = static_cast<double>(steps) / static_cast<double>(state.iterations());
+  // Per control period of the last run: integrator steps, right-hand sides, guard evaluations,
+  // restarts (torque changes and contact events) and contact events.
+  const double n = static_cast<double>(std::max(1L, periods));
+  state.counters["int_steps_per_period"] = static_cast<double>(stats.steps) / n;
+  state.counters["rhs_per_period"] = static_cast<double>(stats.rhs_evals) / n;
+  state.counters["guards_per_period"] = static_cast<double>(stats.root_evals) / n;
+  state.counters["restarts_per_period"] = static_cast<double>(stats.reinits) / n;
+  state.counters["events_per_period"] = static_cast<double>(events) / n;
 }
 void BM_WalkFlatFuzzyCmac(benchmark::State& state) { WalkFlat(state, "fuzzy_cmac"); }
 void BM_WalkFlatPragmatic(benchmark::State& state) { WalkFlat(state, "pragmatic"); }
@@ -62,6 +79,13 @@ void BM_WalkerControlPeriod(benchmark::State& state) {
   WalkerParams p = s.walker;
   p.warmup_steps = 0;
   p.log_every = 0;
+  // The gaits' own rules and step lengths, as RunScenario gives them to the walker.
+  p.gait_rules.clear();
+  p.gait_l_steps.clear();
+  for (const GaitRecord& g : Library()->gaits) {
+    p.gait_rules.push_back(g.spec.rules);
+    p.gait_l_steps.push_back(g.measured.l_step);
+  }
   FuzzyCmacWalker walker(p, Library()->pattern, s.velocity, 0);
   Observation obs;
   obs.q << 0.1, 0.86, 0.15, 0.2, -0.05, -0.1, -0.6;

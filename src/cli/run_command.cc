@@ -4,8 +4,8 @@
 // report is built in a staging folder renamed into place at the end, so a failed run never leaves
 // half a report. The staging folder has a stable name (DIR.partial) and every run's folder in it a
 // completion marker written last, so that after a kill --resume runs only the runs without one (see
-// ClaimStaging). Under mpirun every rank loads and plans the same jobs, job i of a suite runs on
-// rank i mod size, and rank 0 alone writes (rabbit/report/rank_batch.h). With --shard I/N only the
+// ClaimStaging). Under mpirun every rank loads and plans the same jobs, each rank takes the next
+// job whenever one of its threads is free, and rank 0 alone writes (rabbit/report/rank_batch.h). With --shard I/N only the
 // jobs i with i mod N = I - 1 run, into DIR/shards/I-of-N/, which rabbit report DIR merges
 // (rabbit/report/shards.h).
 #include <fcntl.h>

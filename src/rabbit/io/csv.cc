@@ -2,6 +2,7 @@
 
 #include <charconv>
 #include <cmath>
+#include <cstring>
 #include <sstream>
 #include <system_error>
 
@@ -59,11 +60,23 @@ std::string FormatCsvCell(const std::string& text) {
   return out + "\"";
 }
 
+char* WriteCsvNumber(char* out, double v) {
+  if (std::isnan(v)) {  // to_chars would write "-nan" for a negative NaN
+    std::memcpy(out, "nan", 3);
+    return out + 3;
+  }
+  // Shortest round trip (infinities come out as "inf" and "-inf").
+  return std::to_chars(out, out + kMaxCsvNumberChars, v).ptr;
+}
+
 std::string FormatCsvNumber(double v) {
-  if (std::isnan(v)) return "nan";
-  char text[40];
-  std::snprintf(text, sizeof text, "%.10g", v);
-  return text;
+  char text[kMaxCsvNumberChars];
+  return std::string(text, WriteCsvNumber(text, v));
+}
+
+void AppendCsvNumber(double v, std::string* out) {
+  char text[kMaxCsvNumberChars];
+  out->append(text, WriteCsvNumber(text, v));
 }
 
 }  // namespace rabbit

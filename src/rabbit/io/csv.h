@@ -19,9 +19,17 @@ double ParseFiniteNumber(const std::string& text, const std::string& file, int l
                          const std::string& key);
 
 // Writing: a cell's text (as is without commas, quotes or newlines; else quoted, quotes doubled,
-// newlines as spaces) and a number to 10 significant digits (`nan`, `inf` spelled out).
+// newlines as spaces) and a number in the shortest form that reads back as the same double
+// (std::to_chars; `nan`, `inf`, `-inf` spelled out).
 std::string FormatCsvCell(const std::string& text);
 std::string FormatCsvNumber(double v);
+// The longest text FormatCsvNumber gives ("-2.2250738585072014e-308" and the like).
+constexpr int kMaxCsvNumberChars = 32;
+// Writes FormatCsvNumber(v) at `out`, which has room for kMaxCsvNumberChars characters, and
+// returns the end: the allocation-free form for files with many numbers per row.
+char* WriteCsvNumber(char* out, double v);
+// Appends FormatCsvNumber(v) to *out.
+void AppendCsvNumber(double v, std::string* out);
 
 }  // namespace rabbit
 

@@ -6,14 +6,18 @@
 #include <array>
 #include <cerrno>
 #include <cmath>
+#include <condition_variable>
 #include <cstdint>
 #include <cstring>
+#include <exception>
 #include <filesystem>
 #include <fstream>
+#include <mutex>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
 #include <system_error>
+#include <thread>
 
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/csv_table.h"
@@ -335,18 +339,91 @@ RunBrief ReadRunMarker(const std::string& path) {
   return brief;
 }
 
+namespace {
+
+// Several ranks: this rank's threads take jobs as they become free, from the counter all ranks
+// share (dynamic dealing: a rank that drew long runs simply takes fewer). MPI is called from this
+// (the main) thread only: it fetches an index whenever a worker asks for one and hands it over.
+// on_done(job, run) is called from the workers, serialised. Rethrows the first failure.
+void RunDealtJobs(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCache* libraries,
+                  const std::function<void(size_t, RunOutput&&)>& on_done) {
+  SharedCounter counter;  // a collective on construction and destruction
+  std::mutex mutex;
+  std::condition_variable wanted, handed;
+  int waiting = 0;            // workers waiting for a job
+  std::vector<size_t> queue;  // jobs handed over, not yet taken
+  bool exhausted = false;     // no job left (or a failure): workers stop
+  std::exception_ptr error;
+  std::mutex done_mutex;
+  auto worker = [&] {
+    while (true) {
+      size_t job = 0;
+      {
+        std::unique_lock<std::mutex> lock(mutex);
+        ++waiting;
+        wanted.notify_one();
+        handed.wait(lock, [&] { return !queue.empty() || exhausted; });
+        --waiting;
+        if (queue.empty()) return;
+        job = queue.back();
+        queue.pop_back();
+      }
+      try {
+        // One job on this thread, through the batch runner (the same library cache and run).
+        RunBatch({jobs[job]}, 1, libraries, [&](size_t, RunOutput&& run) {
+          std::lock_guard<std::mutex> lock(done_mutex);
+          on_done(job, std::move(run));
+        });
+      } catch (...) {
+        std::lock_guard<std::mutex> lock(mutex);
+        if (!error) error = std::current_exception();
+        exhausted = true;
+        handed.notify_all();
+        wanted.notify_one();
+        return;
+      }
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int t = 0; t < threads; ++t) {
+    try {
+      pool.emplace_back(worker);
+    } catch (const std::system_error&) {
+      break;  // no more threads to be had: the ones running do the work
+    }
+  }
+  if (pool.empty()) throw std::runtime_error("cannot start a worker thread");
+  {
+    std::unique_lock<std::mutex> lock(mutex);
+    while (!exhausted) {
+      wanted.wait(lock, [&] { return (waiting > static_cast<int>(queue.size())) || exhausted; });
+      if (exhausted) break;
+      lock.unlock();
+      const long long next = counter.Next();
+      lock.lock();
+      if (next < 0 || static_cast<size_t>(next) >= jobs.size()) {
+        exhausted = true;
+      } else {
+        queue.push_back(static_cast<size_t>(next));
+      }
+      handed.notify_all();
+    }
+  }
+  for (std::thread& t : pool) t.join();
+  if (error) std::rethrow_exception(error);
+}
+
+}  // namespace
+
 RankBatchResult RunBatchOverRanks(const std::vector<BatchJob>& jobs, const std::string& suite,
                                   int threads, GaitLibraryCache* libraries, const std::string& dir,
                                   const std::function<void(const RunBrief&)>& on_local_done) {
   const int rank = Ranks::rank(), size = Ranks::size();
-  std::vector<BatchJob> mine;
-  std::vector<size_t> job_of;  // mine[i] is jobs[job_of[i]]
-  for (size_t k = static_cast<size_t>(rank); k < jobs.size(); k += static_cast<size_t>(size)) {
-    mine.push_back(jobs[k]);
-    job_of.push_back(k);
-  }
   RankBatchResult result;
-  result.threads = BatchThreads(mine, threads);
+  // Each rank's share is not known in advance: at most all the jobs, shared with the other ranks.
+  result.threads = size == 1 ? BatchThreads(jobs, threads)
+                             : std::min(BatchThreads(jobs, threads),
+                                        static_cast<int>(std::max<size_t>(1, jobs.size() / size)));
   std::vector<RunBrief> briefs;
   ScratchFolder scratch;
   RunAgreed([&] {
@@ -357,12 +434,17 @@ RankBatchResult RunBatchOverRanks(const std::vector<BatchJob>& jobs, const std::
       scratch.Create();
       out = scratch.path.string();
     }
-    RunBatch(mine, result.threads, libraries, [&](size_t i, RunOutput&& run) {
-      WriteRunFiles(*mine[i].scenario, run, out);
-      briefs.push_back(Brief(job_of[i], suite, run));
+    const auto done = [&](size_t job, RunOutput&& run) {
+      WriteRunFiles(*jobs[job].scenario, run, out);
+      briefs.push_back(Brief(job, suite, run));
       WriteRunMarker(out, briefs.back());
       if (on_local_done) on_local_done(briefs.back());
-    });
+    };
+    if (size == 1) {
+      RunBatch(jobs, result.threads, libraries, done);
+    } else {
+      RunDealtJobs(jobs, result.threads, libraries, done);
+    }
   });
 
   // The briefs are small: one message each. Then the other ranks' folders, in rounds.

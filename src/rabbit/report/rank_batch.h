@@ -1,12 +1,13 @@
 // A batch run dealt over the ranks of a distributed job (rabbit/scenario/ranks.h), with every run's
-// files gathered into rank 0's report folder. Job k of the list runs on rank k mod size, on
-// threads within the rank. Rank 0 writes its own runs' folders as they finish; the other ranks
-// write theirs into a private temporary folder (so that their memory does not grow with the
-// suite), send them to rank 0 in pieces of bounded size once every rank has finished, and remove
-// it. Only rank 0 writes into the report. In one process this is RunBatch writing the folders.
-// Each run's folder gets its completion marker (kRunMarker) last, also on the way to rank 0, so a
-// folder without one is a run cut short (rabbit run --resume runs it again; it removes the
-// markers once the report is complete).
+// files gathered into rank 0's report folder. The jobs are dealt as the ranks' threads become
+// free (a counter shared by the ranks hands out the next job index), so a rank that drew long runs
+// takes fewer; which rank ran a job changes nothing in its files. Rank 0 writes its own runs'
+// folders as they finish; the other ranks write theirs into a private temporary folder (so that
+// their memory does not grow with the suite), send them to rank 0 in pieces of bounded size once
+// every rank has finished, and remove it. Only rank 0 writes into the report. In one process this
+// is RunBatch writing the folders. Each run's folder gets its completion marker (kRunMarker) last,
+// also on the way to rank 0, so a folder without one is a run cut short (rabbit run --resume runs
+// it again; it removes the markers once the report is complete).
 #ifndef RABBIT_REPORT_RANK_BATCH_H_
 #define RABBIT_REPORT_RANK_BATCH_H_
 

@@ -4,9 +4,9 @@
 
 #include <algorithm>
 #include <cstdlib>
-#include <thread>
 #include <exception>
 #include <stdexcept>
+#include <thread>
 
 #ifdef RABBIT_WITH_MPI
 #include <mpi.h>
@@ -156,6 +156,53 @@ void Ranks::Abort(int code) {
   if (g_size > 1) MPI_Abort(MPI_COMM_WORLD, code);
 #endif
   std::exit(code);
+}
+
+SharedCounter::SharedCounter() {
+#ifdef RABBIT_WITH_MPI
+  if (g_size == 1) return;
+  auto* window = new MPI_Win;
+  long long* base = nullptr;
+  const MPI_Aint bytes = g_rank == 0 ? sizeof(long long) : 0;
+  if (g_local_size == g_size) {
+    // One machine: a shared-memory window, whose atomics never wait for rank 0 to enter MPI.
+    MPI_Win_allocate_shared(bytes, sizeof(long long), MPI_INFO_NULL, MPI_COMM_WORLD, &base, window);
+  } else {
+    MPI_Win_allocate(bytes, sizeof(long long), MPI_INFO_NULL, MPI_COMM_WORLD, &base, window);
+  }
+  if (g_rank == 0) {
+    MPI_Win_lock(MPI_LOCK_EXCLUSIVE, 0, 0, *window);
+    *base = 0;
+    MPI_Win_unlock(0, *window);
+  }
+  MPI_Barrier(MPI_COMM_WORLD);  // the counter is 0 before anyone asks
+  MPI_Win_lock_all(MPI_MODE_NOCHECK, *window);
+  window_ = window;
+#endif
+}
+
+SharedCounter::~SharedCounter() {
+#ifdef RABBIT_WITH_MPI
+  if (window_ == nullptr) return;
+  auto* window = static_cast<MPI_Win*>(window_);
+  MPI_Win_unlock_all(*window);
+  MPI_Win_free(window);  // a collective
+  delete window;
+#endif
+}
+
+long long SharedCounter::Next() {
+#ifdef RABBIT_WITH_MPI
+  if (window_ != nullptr) {
+    auto* window = static_cast<MPI_Win*>(window_);
+    const long long one = 1;
+    long long got = 0;
+    MPI_Fetch_and_op(&one, &got, MPI_LONG_LONG, 0, 0, MPI_SUM, *window);
+    MPI_Win_flush(0, *window);
+    return got;
+  }
+#endif
+  return local_++;
 }
 
 void RunAgreed(const std::function<void()>& step) {

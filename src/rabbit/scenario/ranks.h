@@ -1,7 +1,8 @@
 // The processes of a distributed job: MPI_COMM_WORLD when rabbit is built with MPI (OpenMPI from
 // Debian, found by CMake) and started by mpirun; otherwise a single process (rank 0 of 1). Work is
-// dealt by index (item i to rank i mod size) and results are gathered back in index order, so a
-// job's results never depend on the number of ranks. Collectives are called from the main thread
+// dealt by index, statically (item i to rank i mod size) or to the ranks as they ask for it
+// (SharedCounter), and results are gathered back in index order, so a job's results never depend
+// on the number of ranks or on which rank ran what. Collectives are called from the main thread
 // only (MPI_THREAD_FUNNELED); every rank must make the same calls in the same order.
 //
 // Also the --shard I/N option of batch schedulers without MPI: shard I of N (1-based) takes the
@@ -38,6 +39,24 @@ class Ranks {
   static bool AllTrue(bool mine);
   // Ends every rank (MPI_Abort) after a failure that only some ranks saw; exits otherwise.
   [[noreturn]] static void Abort(int code);
+};
+
+// A counter shared by all ranks, held by rank 0: Next() hands out 0, 1, 2, ... over the whole job,
+// each value to exactly one caller on one rank, for dealing items to ranks as they become free
+// (an MPI one-sided fetch-and-add; on one machine OpenMPI serves it from shared memory without
+// involving rank 0's CPU). Construction and destruction are collectives; Next() is called from
+// the main thread only. One process: a plain counter.
+class SharedCounter {
+ public:
+  SharedCounter();
+  ~SharedCounter();
+  SharedCounter(const SharedCounter&) = delete;
+  SharedCounter& operator=(const SharedCounter&) = delete;
+  long long Next();
+
+ private:
+  long long local_ = 0;     // one process
+  void* window_ = nullptr;  // the MPI window (owned), when there are several ranks
 };
 
 // Runs step() on every rank and agrees on how it went (a collective): when it threw on any rank,

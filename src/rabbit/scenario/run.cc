@@ -286,7 +286,7 @@ RunMetrics ComputeMetrics(const Scenario& scenario, const Model& model, const Si
   const double nan = std::numeric_limits<double>::quiet_NaN();
   RunMetrics m;
   m.duration = sim.t_end;
-  m.distance = sim.samples.empty() ? nan : sim.samples.back().q[kX] - scenario.q0[kX];
+  m.distance = sim.last.q[kX] - scenario.q0[kX];  // whatever was recorded
   m.steps = static_cast<int>(steps.size());
   for (int j = 0; j < kNumJoints; ++j) {
     m.saturation += sim.saturation_time(j, scenario.options.control_period);

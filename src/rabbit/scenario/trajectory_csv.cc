@@ -1,8 +1,10 @@
 #include "rabbit/scenario/trajectory_csv.h"
 
-#include <iomanip>
+#include <algorithm>
+#include <cstring>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/csv.h"
 
 namespace rabbit {
 
@@ -22,20 +24,40 @@ void WriteTrajectoryCsv(const SimResult& result, std::ostream& out) {
         << "_ft_n,foot" << leg << "_contact,foot" << leg << "_mode";
   }
   out << ",kinetic_j,potential_j,elastic_j,total_energy_j\n";
-  out << std::setprecision(12);
+  // Each row is formatted into one buffer (shortest round-trip numbers, no stream formatting)
+  // and written in one call: this file is the bulk of a run's output.
+  constexpr int kNumbers = 1 + 2 * kNq + 2 * kNumJoints + 5 * kNumLegs + 4;
+  char row[kNumbers * (kMaxCsvNumberChars + 1) + kNumLegs * 16 + 2];
   for (const SimSample& s : result.samples) {
-    out << s.t;
-    for (int i = 0; i < kNq; ++i) out << ',' << s.q[i];
-    for (int i = 0; i < kNq; ++i) out << ',' << s.qd[i];
-    for (int j = 0; j < kNumJoints; ++j) out << ',' << s.tau_cmd[j];
-    for (int j = 0; j < kNumJoints; ++j) out << ',' << s.tau[j];
+    char* p = row;
+    auto number = [&p](double v) {
+      *p++ = ',';
+      p = WriteCsvNumber(p, v);
+    };
+    p = WriteCsvNumber(p, s.t);
+    for (int i = 0; i < kNq; ++i) number(s.q[i]);
+    for (int i = 0; i < kNq; ++i) number(s.qd[i]);
+    for (int j = 0; j < kNumJoints; ++j) number(s.tau_cmd[j]);
+    for (int j = 0; j < kNumJoints; ++j) number(s.tau[j]);
     for (int leg = 0; leg < kNumLegs; ++leg) {
-      out << ',' << s.foot_pos[leg].x() << ',' << s.foot_pos[leg].y() << ',' << s.foot_force[leg].fn
-          << ',' << s.foot_force[leg].ft << ',' << (s.foot_force[leg].fn > 0.0 ? 1 : 0) << ','
-          << ContactModeName(s.foot_mode[leg]);
+      number(s.foot_pos[leg].x());
+      number(s.foot_pos[leg].y());
+      number(s.foot_force[leg].fn);
+      number(s.foot_force[leg].ft);
+      *p++ = ',';
+      *p++ = s.foot_force[leg].fn > 0.0 ? '1' : '0';
+      *p++ = ',';
+      const char* mode = ContactModeName(s.foot_mode[leg]);
+      const size_t length = std::strlen(mode);
+      std::memcpy(p, mode, std::min<size_t>(length, 15));
+      p += std::min<size_t>(length, 15);
     }
-    out << ',' << s.kinetic << ',' << s.potential << ',' << s.elastic << ',' << TotalEnergy(s)
-        << '\n';
+    number(s.kinetic);
+    number(s.potential);
+    number(s.elastic);
+    number(TotalEnergy(s));
+    *p++ = '\n';
+    out.write(row, p - row);
   }
 }
 

@@ -382,7 +382,10 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
     ctx.tau = s.tau;
     result.t_end = s.t;
     if (record) result.samples.push_back(s);
-    if (!alive || reached || k == num_periods) break;
+    if (!alive || reached || k == num_periods) {
+      result.last = s;
+      break;
+    }
     result.num_periods = k + 1;
 
     // Integrate over the control period, stopping at every event.
@@ -426,6 +429,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
     }
     if (!ok) {
       result.t_end = t;
+      result.last = s;
       break;
     }
   }

@@ -80,7 +80,11 @@ struct SimResult {
   Outcome outcome = Outcome::kCompleted;
   std::string reason;  // why the run ended early (empty when completed)
   double t_end = 0.0;
-  std::vector<SimSample> samples;
+  std::vector<SimSample> samples;  // every record_every-th sample, and the last
+  // The last sample (the state at t_end, or at the start of the period that failed), kept
+  // whatever record_every is: metrics do not depend on what is recorded. Its energies are set
+  // only when it was recorded.
+  SimSample last;
   IntegratorStats integrator;
   long num_events = 0;
   std::vector<ContactEvent> events;  // every contact mode change, in time order
