@@ -11,6 +11,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/flag_checks.h"
 #include "cmac_fit.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
@@ -24,6 +25,8 @@ namespace rabbit::cli {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
+// fis eval --vm: five times the fastest shipped gait, either way.
+constexpr double kMaxFlagSpeed = 5.0;  // m/s
 
 struct TrainArgs {
   std::string gaits = "gaits/reference";
@@ -71,8 +74,7 @@ int RunTrain(const TrainArgs& a) {
     // The gait's name becomes file names: it must be safe and unique.
     if (!IsSafeName(gaits.back().name) || !names.insert(gaits.back().name).second) {
       throw InputError(path, 0, "name",
-                       "gait names must be unique and use letters, digits, '.', "
-                       "'_' and '-' only");
+                       "gait names must be unique and " + SafeNameRule(gaits.back().name));
     }
     for (const SwingSample& s : gaits.back().swing) {
       e_min = std::min(e_min, s.e);
@@ -255,10 +257,14 @@ Command RegisterFis(CLI::App* app) {
   auto a = std::make_shared<FisArgs>();
   CLI::App* eval = fis->add_subcommand("eval", "Rule activations at X = [V_M, d_obs]");
   eval->add_option("fll", a->fll, "FLL file (default gaits/gait_pattern.fll)");
-  eval->add_option("--vm", a->v_m, "Average velocity V_M, m/s")->required();
-  eval->add_option("--dobs", a->d_obs, "Distance to the next obstacle, m (1 = none)");
+  eval->add_option("--vm", a->v_m, "Average velocity V_M, m/s")
+      ->required()
+      ->check(NumberIn(-kMaxFlagSpeed, kMaxFlagSpeed, "m/s"));
+  eval->add_option("--dobs", a->d_obs, "Distance to the next obstacle, m (1 = none)")
+      ->check(NumberIn(0.0, std::numeric_limits<double>::infinity(), "m"));
   CLI::Option* e =
-      eval->add_option("--e-deg", a->e, "Stance hip angle e, deg: print the merged references");
+      eval->add_option("--e-deg", a->e, "Stance hip angle e, deg: print the merged references")
+          ->check(NumberIn(-180.0, 180.0, "deg"));
   eval->add_option("--networks", a->networks, "Networks directory (with --e)");
   auto gen_gaits = std::make_shared<std::string>("gaits/reference");
   auto gen_out = std::make_shared<std::string>("gaits/gait_pattern.fll");

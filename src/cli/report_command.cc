@@ -10,9 +10,10 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/flag_checks.h"
+#include "rabbit/io/error.h"
 #include "rabbit/report/shards.h"
 #include "rabbit/report/suite_report.h"
-#include "rabbit/io/error.h"
 #include "rabbit/scenario/ranks.h"
 #include "tune_report.h"
 
@@ -36,8 +37,9 @@ int Report(const ReportArgs& args) {
   std::vector<std::string> warnings;
   if (fs::exists(fs::path(args.dir) / ".rabbit-tune")) {  // a tuning job's folder
     if (!fs::exists(fs::path(args.dir) / "meta.csv")) {
-      throw InputError(args.dir, 0, "", "a tuning job that has not finished (or only its shards): "
-                                        "finish it with rabbit tune JOB --resume");
+      throw InputError(args.dir, 0, "",
+                       "a tuning job that has not finished (or only its shards): "
+                       "finish it with rabbit tune JOB --resume");
     }
     TuneReportOptions options;
     options.gnuplot = args.options.gnuplot;
@@ -105,7 +107,8 @@ Command RegisterReport(CLI::App* app) {
                   "Seconds between the figures of a stick diagram (default 0.1)");
   cmd->add_option("--family-details", args->options.family_details,
                   "Figures, steps and replays for the first N members of each family only "
-                  "(default 3; -1: every member)");
+                  "(default 3; -1: every member)")
+      ->check(IntegerIn(-1, kMaxFamilyDetails));
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but warnings and errors");
   return {cmd, [args] { return RunReport(*args); }};
 }

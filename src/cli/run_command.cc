@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/flag_checks.h"
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/error.h"
 #include "rabbit/report/comparison.h"
@@ -536,7 +537,8 @@ Command RegisterRun(CLI::App* app) {
   cmd->add_option("--gnuplot", args->report.gnuplot, "gnuplot executable for the figures");
   cmd->add_option("--family-details", args->report.family_details,
                   "Figures, steps and replays for the first N members of each family only "
-                  "(default 3; -1: every member)");
+                  "(default 3; -1: every member)")
+      ->check(IntegerIn(-1, kMaxFamilyDetails));
   cmd->add_flag(
       "--no-html", [args](std::int64_t) { args->html = false; },
       "Write the CSV files only (summary.csv, comparison.csv, the runs')");
