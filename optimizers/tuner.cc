@@ -6,12 +6,12 @@
 #include <unistd.h>
 
 #include <atomic>
+#include <csignal>
+#include <cstdlib>
 #include <chrono>
 #include <cmath>
 #include <condition_variable>
-#include <csignal>
 #include <cstdio>
-#include <cstdlib>
 #include <exception>
 #include <filesystem>
 #include <fstream>
@@ -47,8 +47,7 @@ RunScore Score(const std::string& suite, const RunOutput& run) {
   s.passed = run.passed;
   s.outcome = OutcomeName(run.sim.outcome);
   const RunMetrics& m = run.metrics;
-  s.value = {run.passed ? 0.0 : 1.0, m.mean_abs_speed_error,
-             m.l_step_spread,        m.energy,
+  s.value = {run.passed ? 0.0 : 1.0, m.mean_abs_speed_error, m.l_step_spread, m.energy,
              m.cost_of_transport,    m.saturation};
   return s;
 }
@@ -171,12 +170,9 @@ class Evaluator {
 std::string CsvText(const std::string& text) {
   std::string out = "\"";
   for (char c : text) {
-    if (c == '"')
-      out += "\"\"";
-    else if (c == '\n' || c == '\r')
-      out += ' ';
-    else
-      out += c;
+    if (c == '"') out += "\"\"";
+    else if (c == '\n' || c == '\r') out += ' ';
+    else out += c;
   }
   return out + "\"";
 }
@@ -261,9 +257,9 @@ std::map<std::pair<int, int>, Evaluation> ParseLog(const TuneJob& job, const std
     e.wall = table.Number(r, c++, CsvNumber::kAny);
     auto [it, inserted] = out.emplace(std::make_pair(e.start, e.seq), std::move(e));
     if (!inserted) {
-      throw InputError(file, table.line(r), "",
-                       "search " + std::to_string(it->first.first) + " request " +
-                           std::to_string(it->first.second) + " is logged twice");
+      throw InputError(file, table.line(r), "", "search " + std::to_string(it->first.first) +
+                                                    " request " + std::to_string(it->first.second) +
+                                                    " is logged twice");
     }
     by_index[it->second.index] = &it->second;
   }
@@ -283,9 +279,9 @@ std::map<std::pair<int, int>, Evaluation> ParseLog(const TuneJob& job, const std
   }
   for (auto& [key, e] : out) {
     if (static_cast<int>(e.scores.size()) != e.runs) {
-      throw InputError(file, 0, "",
-                       "evaluation " + std::to_string(e.index) + " logs " + std::to_string(e.runs) +
-                           " runs but runs.csv holds " + std::to_string(e.scores.size()));
+      throw InputError(file, 0, "", "evaluation " + std::to_string(e.index) + " logs " +
+                                        std::to_string(e.runs) + " runs but runs.csv holds " +
+                                        std::to_string(e.scores.size()));
     }
   }
   return out;
@@ -302,8 +298,9 @@ class Log {
     WriteFileAtomically(e.string(), [&](std::ostream& out) {
       out << (evaluations.empty() ? EvaluationsHeader(job) + "\n" : evaluations);
     });
-    WriteFileAtomically(
-        r.string(), [&](std::ostream& out) { out << (runs.empty() ? RunsHeader() + "\n" : runs); });
+    WriteFileAtomically(r.string(), [&](std::ostream& out) {
+      out << (runs.empty() ? RunsHeader() + "\n" : runs);
+    });
     evaluations_ = std::fopen(e.string().c_str(), "ab");
     runs_ = std::fopen(r.string().c_str(), "ab");
     if (evaluations_ == nullptr || runs_ == nullptr) {
@@ -497,14 +494,10 @@ class Search {
 
   void RunNlopt() {
     static const std::map<TuneAlgorithm, nlopt_algorithm> kNlopt = {
-        {TuneAlgorithm::kBobyqa, NLOPT_LN_BOBYQA},
-        {TuneAlgorithm::kSbplx, NLOPT_LN_SBPLX},
-        {TuneAlgorithm::kCobyla, NLOPT_LN_COBYLA},
-        {TuneAlgorithm::kNelderMead, NLOPT_LN_NELDERMEAD},
-        {TuneAlgorithm::kCrs2, NLOPT_GN_CRS2_LM},
-        {TuneAlgorithm::kIsres, NLOPT_GN_ISRES},
-        {TuneAlgorithm::kEsch, NLOPT_GN_ESCH},
-        {TuneAlgorithm::kDirect, NLOPT_GN_DIRECT},
+        {TuneAlgorithm::kBobyqa, NLOPT_LN_BOBYQA}, {TuneAlgorithm::kSbplx, NLOPT_LN_SBPLX},
+        {TuneAlgorithm::kCobyla, NLOPT_LN_COBYLA}, {TuneAlgorithm::kNelderMead, NLOPT_LN_NELDERMEAD},
+        {TuneAlgorithm::kCrs2, NLOPT_GN_CRS2_LM},  {TuneAlgorithm::kIsres, NLOPT_GN_ISRES},
+        {TuneAlgorithm::kEsch, NLOPT_GN_ESCH},     {TuneAlgorithm::kDirect, NLOPT_GN_DIRECT},
         {TuneAlgorithm::kDirectL, NLOPT_GN_DIRECT_L}};
     const unsigned n = static_cast<unsigned>(job_.parameters.size());
     // NLopt's random numbers are thread-local: seeding here makes this search reproducible.
@@ -535,7 +528,8 @@ class Search {
    public:
     Cost(Search* search, int residuals) : search_(search) {
       set_num_residuals(residuals);
-      mutable_parameter_block_sizes()->push_back(static_cast<int>(search->job_.parameters.size()));
+      mutable_parameter_block_sizes()->push_back(
+          static_cast<int>(search->job_.parameters.size()));
     }
     bool Evaluate(double const* const* parameters, double* residuals,
                   double** jacobians) const override {
@@ -780,11 +774,11 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   TuneResult result;
   const fs::path out = options.out.empty() ? fs::path("reports") / job.name : fs::path(options.out);
   result.out = out.string();
-  const fs::path dir =
-      options.shard.active()
-          ? out / "shards" /
-                (std::to_string(options.shard.index) + "-of-" + std::to_string(options.shard.count))
-          : out;
+  const fs::path dir = options.shard.active()
+                           ? out / "shards" /
+                                 (std::to_string(options.shard.index) + "-of-" +
+                                  std::to_string(options.shard.count))
+                           : out;
   // The folder: a fresh one, or this job's log to resume (or, with --force, to start over).
   std::string evaluations_text, runs_text;
   std::map<std::pair<int, int>, Evaluation> recorded;  // replayable, from this folder's log
@@ -862,8 +856,8 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   std::istringstream shard_list(Ranks::Broadcast(shard_logs));
   for (std::string e; std::getline(shard_list, e);) {
     const fs::path p(e);
-    const std::string ev =
-        Ranks::Broadcast(Ranks::root() ? CompleteLines(ReadText(p)) : std::string());
+    const std::string ev = Ranks::Broadcast(
+        Ranks::root() ? CompleteLines(ReadText(p)) : std::string());
     const std::string ru = Ranks::Broadcast(
         Ranks::root() ? CompleteLines(ReadText(p.parent_path() / "runs.csv")) : std::string());
     for (auto& [key, value] : ParseLog(job, e, ev, ru)) {
@@ -898,15 +892,15 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
     by_start[s] = searches.back().get();
   }
   Evaluator evaluator(job, options.threads);
-  std::map<int, int> seq;                              // per search: requests evaluated
-  std::map<int, std::vector<const Evaluation*>> memo;  // per search: its evaluations
-  std::vector<std::unique_ptr<Evaluation>> all;        // log order
+  std::map<int, int> seq;                                  // per search: requests evaluated
+  std::map<int, std::vector<const Evaluation*>> memo;      // per search: its evaluations
+  std::vector<std::unique_ptr<Evaluation>> all;            // log order
   int round = 0;
   auto serve = [&](const std::vector<int>& ss,
                    const std::vector<std::vector<std::vector<double>>>& xs) {
     std::vector<std::vector<Evaluation>> answers(ss.size());
-    std::vector<std::vector<double>> fresh;           // to evaluate now
-    std::vector<std::pair<size_t, size_t>> fresh_at;  // (request, candidate)
+    std::vector<std::vector<double>> fresh;                  // to evaluate now
+    std::vector<std::pair<size_t, size_t>> fresh_at;         // (request, candidate)
     std::vector<std::vector<const Evaluation*>> found(ss.size());
     // New in this folder's log this round, in request order: fresh ones and other shards' replays.
     std::vector<std::pair<Evaluation*, bool>> to_log;  // (evaluation, fresh)
@@ -1020,8 +1014,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   if (Ranks::root() && result.complete && result.initial >= 0 && result.best >= 0) {
     std::vector<std::string> warnings;
     WriteOutputs(job, dir, result, options, &warnings);
-    for (const std::string& w : warnings)
-      std::fprintf(stderr, "rabbit tune: warning: %s\n", w.c_str());
+    for (const std::string& w : warnings) std::fprintf(stderr, "rabbit tune: warning: %s\n", w.c_str());
   }
   return result;
 }

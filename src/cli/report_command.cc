@@ -37,9 +37,8 @@ int Report(const ReportArgs& args) {
   std::vector<std::string> warnings;
   if (fs::exists(fs::path(args.dir) / ".rabbit-tune")) {  // a tuning job's folder
     if (!fs::exists(fs::path(args.dir) / "meta.csv")) {
-      throw InputError(args.dir, 0, "",
-                       "a tuning job that has not finished (or only its shards): "
-                       "finish it with rabbit tune JOB --resume");
+      throw InputError(args.dir, 0, "", "a tuning job that has not finished (or only its shards): "
+                                        "finish it with rabbit tune JOB --resume");
     }
     TuneReportOptions options;
     options.gnuplot = args.options.gnuplot;

@@ -652,7 +652,8 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
     pp.feedback_gain = pt.Double("feedback_gain", pp.feedback_gain);
     pp.bias_initial = pt.Double("bias_initial", pp.bias_initial);
     pp.bias_max = pt.Double("bias_max", pp.bias_max);
-    pp.recovery_steps = static_cast<int>(pt.Integer("recovery_steps", pp.recovery_steps, 0, 100));
+    pp.recovery_steps =
+        static_cast<int>(pt.Integer("recovery_steps", pp.recovery_steps, 0, 100));
     pp.stretch = pt.Double("stretch", pp.stretch);
     pp.over_lift_trail = pt.Double("over_lift_trail", pp.over_lift_trail);
     pp.over_lift_release = pt.Double("over_lift_release", pp.over_lift_release);
