@@ -181,7 +181,7 @@ std::vector<Case> Cases() {
                [](const fs::path& d) { fs::create_directories(d / "g"); },
                "gaits list --dir {D}/g",
                2,
-               {"{D}/g/index.csv", "larger than 4 MiB", "index file"},
+               {"{D}/g/index.csv", "larger than 4 MiB", "index files"},
                {},
                {},
                "g/index.csv",
@@ -190,7 +190,7 @@ std::vector<Case> Cases() {
                [](const fs::path&) {},
                "fis eval {D}/p.fll --vm 0.5",
                2,
-               {"{D}/p.fll", "larger than 4 MiB", "FLL file"},
+               {"{D}/p.fll", "larger than 4 MiB", "FLL files"},
                {},
                {},
                "p.fll",
@@ -202,7 +202,7 @@ std::vector<Case> Cases() {
                },
                "report {D}/rep",
                2,
-               {"{D}/rep/summary.csv", "larger than 1024 MiB", "CSV file"},
+               {"{D}/rep/summary.csv", "larger than 1024 MiB", "CSV files"},
                {},
                {"{D}/rep/index.html"}});
   c.push_back({"gait CSV: 20 MB",
@@ -215,7 +215,7 @@ std::vector<Case> Cases() {
                },
                "simulate {D}/s.toml --out {D}/t.csv",
                2,
-               {"{D}/big.csv", "larger than 16 MiB", "gait file"},
+               {"{D}/big.csv", "larger than 16 MiB", "gait files"},
                {"{D}/s.toml"},
                {"{D}/t.csv"}});
   c.push_back({"network index: 5 MB",
@@ -230,7 +230,7 @@ std::vector<Case> Cases() {
                },
                "fis eval {R}/gaits/gait_pattern.fll --vm 0.5 --e-deg 10 --networks {D}/n",
                2,
-               {"{D}/n/vm_0.30_q_i1.csv", "larger than 256 MiB", "network file"}});
+               {"{D}/n/vm_0.30_q_i1.csv", "larger than 256 MiB", "network files"}});
   c.push_back({"FLL: one 100 kB line",
                [](const fs::path& d) { WriteText(d / "l.fll", std::string(100000, 'x')); },
                "fis eval {D}/l.fll --vm 0.5",
@@ -247,7 +247,7 @@ std::vector<Case> Cases() {
                  [](const fs::path& d) { Sparse(d / "big.toml", 5 * kMiB); },
                  args,
                  2,
-                 {"{D}/big.toml", "larger than 4 MiB", "TOML file"},
+                 {"{D}/big.toml", "larger than 4 MiB", "TOML files"},
                  {},
                  {"{D}/out"}});
   }

@@ -14,7 +14,7 @@ namespace rabbit {
 namespace {
 
 std::string LimitNote(const FileLimits& limits) {
-  return std::string(" (the limit for a ") + limits.what + "; see docs/bad-input.md)";
+  return std::string(" (the limit for ") + limits.what + "; see docs/bad-input.md)";
 }
 
 }  // namespace
@@ -65,7 +65,7 @@ std::string ReadBoundedFile(const std::string& path, const FileLimits& limits) {
     throw InputError(path, 0, "", std::string("cannot open the file: ") + std::strerror(errno));
   }
   if (S_ISDIR(info.st_mode)) {
-    throw InputError(path, 0, "", std::string("is a directory, not a ") + limits.what);
+    throw InputError(path, 0, "", "is a directory, not a file");
   }
   const std::string too_large =
       std::string("larger than ") + FormatBytes(limits.max_bytes) + LimitNote(limits);

@@ -11,7 +11,7 @@
 namespace rabbit {
 
 struct FileLimits {
-  const char* what;       // the kind of file, in messages: "TOML file", "gait index", ...
+  const char* what;       // the kind of file, plural, in messages: "TOML files", ...
   size_t max_bytes;       // the whole file
   size_t max_lines;       // lines (rows, comments and blank lines included)
   size_t max_line_bytes;  // one line, without its line break
@@ -20,18 +20,18 @@ struct FileLimits {
 constexpr size_t kKiB = 1024, kMiB = 1024 * 1024;
 
 // Configuration: scenarios, suites, tuning jobs, gait targets, parameter overlays, model files.
-constexpr FileLimits kTomlFileLimits = {"TOML file", 4 * kMiB, 100000, 64 * kKiB};
+constexpr FileLimits kTomlFileLimits = {"TOML files", 4 * kMiB, 100000, 64 * kKiB};
 // Fuzzy systems in fuzzylite's FLL language.
-constexpr FileLimits kFllFileLimits = {"FLL file", 4 * kMiB, 100000, 64 * kKiB};
+constexpr FileLimits kFllFileLimits = {"FLL files", 4 * kMiB, 100000, 64 * kKiB};
 // One reference gait (a few hundred rows ship; the writer averages one swing).
-constexpr FileLimits kGaitFileLimits = {"gait file", 16 * kMiB, 200000, 64 * kKiB};
+constexpr FileLimits kGaitFileLimits = {"gait files", 16 * kMiB, 200000, 64 * kKiB};
 // gaits/<set>/index.csv and gaits/networks/index.csv.
-constexpr FileLimits kIndexFileLimits = {"index file", 4 * kMiB, 10000, 64 * kKiB};
+constexpr FileLimits kIndexFileLimits = {"index files", 4 * kMiB, 10000, 64 * kKiB};
 // One CMAC network: up to the 2^22 weights of the largest hashed table, one per row.
-constexpr FileLimits kNetworkFileLimits = {"network file", 256 * kMiB, 5000000, 64 * kKiB};
+constexpr FileLimits kNetworkFileLimits = {"network files", 256 * kMiB, 5000000, 64 * kKiB};
 // The CSV tables rabbit reads back (run files, summaries, tuning logs): a run records at most
 // kMaxRecordedSamples samples.
-constexpr FileLimits kCsvTableLimits = {"CSV file", 1024 * kMiB, 5000000, 1 * kMiB};
+constexpr FileLimits kCsvTableLimits = {"CSV files", 1024 * kMiB, 5000000, 1 * kMiB};
 
 // A run keeps at most this many samples (duration / (control period * record_every)).
 constexpr double kMaxRecordedSamples = 2e6;
