@@ -252,7 +252,7 @@ TEST_F(ScenarioFileTest, ImpossibleStatesAndSettingsAreRefused) {
   ExpectError("[simulation]\nduration = 3000\ncontrol_rate_hz = 1e5\n[initial]\ny = 1\n", 2,
               "simulation.duration", "too long");
   ExpectError("[simulation]\nduration = 3000\nrecord_every = 1\n[initial]\ny = 1\n", 3,
-              "simulation.record_every", "more than 2e+06 samples");
+              "simulation.record_every", "more than 1e+06 samples");
   ExpectError("[simulation]\nduration = 1\nrecord_every = 0\n[initial]\ny = 1\n", 3,
               "simulation.record_every", "[1, 1000000]");
   ExpectError("[simulation]\nduration = 1\nintegrator = \"cvode\"\norder = 7\n[initial]\ny = 1\n",

@@ -30,11 +30,12 @@ constexpr FileLimits kIndexFileLimits = {"index files", 4 * kMiB, 10000, 64 * kK
 // One CMAC network: up to the 2^22 weights of the largest hashed table, one per row.
 constexpr FileLimits kNetworkFileLimits = {"network files", 256 * kMiB, 5000000, 64 * kKiB};
 // The CSV tables rabbit reads back (run files, summaries, tuning logs): a run records at most
-// kMaxRecordedSamples samples.
-constexpr FileLimits kCsvTableLimits = {"CSV files", 1024 * kMiB, 5000000, 1 * kMiB};
+// kMaxRecordedSamples samples, about 560 bytes each in trajectory.csv (a 1 GB file is refused).
+constexpr FileLimits kCsvTableLimits = {"CSV files", 768 * kMiB, 2000000, 1 * kMiB};
 
-// A run keeps at most this many samples (duration / (control period * record_every)).
-constexpr double kMaxRecordedSamples = 2e6;
+// A run keeps at most this many samples (duration / (control period * record_every)): a distance
+// run's default 600 s time limit at 1 kHz, every sample, fits.
+constexpr double kMaxRecordedSamples = 1e6;
 // The longest simulated run, s (an hour of walking; the default time limit of a distance run is
 // 600 s).
 constexpr double kMaxDurationS = 3600.0;
