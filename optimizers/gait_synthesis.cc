@@ -6,6 +6,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <vector>
 
@@ -18,20 +19,26 @@ constexpr double kDeg = M_PI / 180.0;
 struct Param {
   const char* name;
   double lo, hi;  // default bounds
-  double scale;   // stored value = value * scale (degrees -> radians)
+  // The widest bounds that make sense: the joint's or trunk's physical range for angles (a knee
+  // flexes backward only, the trunk falls at 45 deg), twice the actuators' 75 N m for the pulse,
+  // positive times, gains and speeds.
+  double min, max;
+  double scale;  // stored value = value * scale (degrees -> radians)
   double* (*field)(GaitSpec*);
 };
 const std::array<Param, 10> kParams = {{
-    {"qr1_dsw_deg", 10.0, 50.0, kDeg, [](GaitSpec* s) { return &s->rules.qr1_dsw; }},
-    {"qi2_dsw_deg", -30.0, -2.0, kDeg, [](GaitSpec* s) { return &s->rules.qi2_dsw; }},
-    {"q0_d_deg", -5.0, 15.0, kDeg, [](GaitSpec* s) { return &s->rules.q0_d; }},
-    {"pulse_torque_nm", 0.0, 75.0, 1.0, [](GaitSpec* s) { return &s->rules.pulse_torque; }},
-    {"pulse_duration_s", 0.02, 0.4, 1.0, [](GaitSpec* s) { return &s->rules.pulse_duration; }},
-    {"hip_kp", 50.0, 1500.0, 1.0, [](GaitSpec* s) { return &s->rules.hip_kp; }},
-    {"hip_kd", 2.0, 80.0, 1.0, [](GaitSpec* s) { return &s->rules.hip_kd; }},
-    {"knee_kp", 50.0, 1500.0, 1.0, [](GaitSpec* s) { return &s->rules.knee_kp; }},
-    {"knee_kd", 2.0, 60.0, 1.0, [](GaitSpec* s) { return &s->rules.knee_kd; }},
-    {"start_speed_m_s", 0.1, 1.2, 1.0, [](GaitSpec* s) { return &s->start_speed; }},
+    {"qr1_dsw_deg", 10.0, 50.0, -90.0, 90.0, kDeg, [](GaitSpec* s) { return &s->rules.qr1_dsw; }},
+    {"qi2_dsw_deg", -30.0, -2.0, -150.0, 0.0, kDeg, [](GaitSpec* s) { return &s->rules.qi2_dsw; }},
+    {"q0_d_deg", -5.0, 15.0, -45.0, 45.0, kDeg, [](GaitSpec* s) { return &s->rules.q0_d; }},
+    {"pulse_torque_nm", 0.0, 75.0, -150.0, 150.0, 1.0,
+     [](GaitSpec* s) { return &s->rules.pulse_torque; }},
+    {"pulse_duration_s", 0.02, 0.4, 0.0, 2.0, 1.0,
+     [](GaitSpec* s) { return &s->rules.pulse_duration; }},
+    {"hip_kp", 50.0, 1500.0, 0.0, 1e5, 1.0, [](GaitSpec* s) { return &s->rules.hip_kp; }},
+    {"hip_kd", 2.0, 80.0, 0.0, 1e4, 1.0, [](GaitSpec* s) { return &s->rules.hip_kd; }},
+    {"knee_kp", 50.0, 1500.0, 0.0, 1e5, 1.0, [](GaitSpec* s) { return &s->rules.knee_kp; }},
+    {"knee_kd", 2.0, 60.0, 0.0, 1e4, 1.0, [](GaitSpec* s) { return &s->rules.knee_kd; }},
+    {"start_speed_m_s", 0.1, 1.2, 0.0, 5.0, 1.0, [](GaitSpec* s) { return &s->start_speed; }},
 }};
 constexpr int kDim = static_cast<int>(kParams.size());
 
@@ -137,6 +144,13 @@ bool SynthesisOptions::IsValid(std::string* error) const {
     if (!(std::isfinite(bounds[i].first) && std::isfinite(bounds[i].second) &&
           bounds[i].first < bounds[i].second)) {
       *error = std::string("bounds of ") + kParams[i].name + ": need finite lower < upper";
+      return false;
+    }
+    if (bounds[i].first < kParams[i].min || bounds[i].second > kParams[i].max) {
+      char range[64];
+      std::snprintf(range, sizeof range, "[%g, %g]", kParams[i].min, kParams[i].max);
+      *error = std::string("bounds of ") + kParams[i].name + ": must lie within " + range +
+               " (the physically meaningful range)";
       return false;
     }
   }

@@ -3,7 +3,6 @@
 #include <cmath>
 #include <filesystem>
 #include <fstream>
-#include <regex>
 #include <sstream>
 
 #include "rabbit/io/error.h"
@@ -113,7 +112,7 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   if (!root.Has("job")) root.Fail("job", "a tuning job needs a [job] table");
   job.name = head.String("name", fs::path(path).stem().string());
   if (!IsSafeName(job.name)) {
-    head.Fail("name", "use letters, digits, '.', '_' and '-' only (it names the output folder)");
+    head.Fail("name", SafeNameRule(job.name) + " (it names the output folder)");
   }
   job.description = head.String("description", "");
   for (const std::string& s : head.Strings("suites", {})) {
@@ -124,11 +123,6 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   job.filter = head.String("filter", "");
   const std::string filter_problem = RegexFilterProblem(job.filter);
   if (!filter_problem.empty()) head.Fail("filter", "bad regex: " + filter_problem);
-  try {
-    (void)std::regex(job.filter, std::regex::ECMAScript);
-  } catch (const std::regex_error& e) {
-    head.Fail("filter", std::string("bad regex: ") + e.what());
-  }
   const std::string base = head.String("params", "");
   if (!base.empty()) job.base = LoadParamOverlay(resolve(base));
   if (extra != nullptr) {
@@ -276,11 +270,11 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
                        "two suites named \"" + suite.name + "\" (" + named->second + " and " +
                            suite_path + "): list each suite once");
     }
-    const std::regex filter(job.filter, std::regex::ECMAScript);
+    const NameFilter filter(job.filter, path, "job.filter");
     bool any = false;
     for (size_t i = 0; i < suite.scenarios.size(); ++i) {
       const Scenario& s = suite.scenarios[i];
-      if (!job.filter.empty() && !std::regex_search(s.name, filter)) continue;
+      if (!filter.Matches(s.name)) continue;
       any = true;
       for (size_t k = 0; k < job.parameters.size(); ++k) {
         TuneParameter& q = job.parameters[k];

@@ -19,7 +19,6 @@
 #include <memory>
 #include <mutex>
 #include <optional>
-#include <regex>
 #include <sstream>
 #include <thread>
 
@@ -117,10 +116,10 @@ class Evaluator {
     const ParamOverlay overlay = job_.Overlay(x);
     try {
       for (const std::string& path : job_.suites) c->suites.push_back(LoadSuite(path, &overlay));
-      const std::regex filter(job_.filter, std::regex::ECMAScript);
+      const NameFilter filter(job_.filter, "job.filter", job_.filter);
       for (const Suite& suite : c->suites) {
         for (const Scenario& s : suite.scenarios) {
-          if (!job_.filter.empty() && !std::regex_search(s.name, filter)) continue;
+          if (!filter.Matches(s.name)) continue;
           if (s.controller == ControllerKind::kFuzzyCmac) libraries_.Get(s.pattern);
           c->jobs.push_back({&s, ScenarioVariants(s).front()});
           c->job_suite.push_back(suite.name);

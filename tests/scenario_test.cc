@@ -222,7 +222,8 @@ TEST_F(ScenarioFileTest, WrongTypesAndValues) {
               "expected a number");
   ExpectError("[simulation]\nduration = nan\n[initial]\ny = 1\n", 2, "simulation.duration",
               "finite");
-  ExpectError("[simulation]\nduration = -1\n[initial]\ny = 1\n", 2, "simulation.duration", ">= 0");
+  ExpectError("[simulation]\nduration = -1\n[initial]\ny = 1\n", 2, "simulation.duration",
+              "[0, 3600] s");
   ExpectError("[simulation]\nduration = 1\nintegrator = \"euler\"\n[initial]\ny = 1\n", 3,
               "simulation.integrator", "cvode");
   ExpectError(std::string(kMinimal) + "[model]\nshin_mass = -3\n", 0, "model", "shin_mass");
@@ -247,7 +248,13 @@ TEST_F(ScenarioFileTest, ImpossibleStatesAndSettingsAreRefused) {
   ExpectError("[simulation]\nduration = 1\ncontrol_rate_hz = 1e300\n[initial]\ny = 1\n", 3,
               "simulation.control_rate_hz", "Hz");
   ExpectError("[simulation]\nduration = 1e7\n[initial]\ny = 1\n", 2, "simulation.duration",
-              "too long");
+              "[0, 3600] s");
+  ExpectError("[simulation]\nduration = 3000\ncontrol_rate_hz = 1e5\n[initial]\ny = 1\n", 2,
+              "simulation.duration", "too long");
+  ExpectError("[simulation]\nduration = 3000\nrecord_every = 1\n[initial]\ny = 1\n", 3,
+              "simulation.record_every", "more than 1e+06 samples");
+  ExpectError("[simulation]\nduration = 1\nrecord_every = 0\n[initial]\ny = 1\n", 3,
+              "simulation.record_every", "[1, 1000000]");
   ExpectError("[simulation]\nduration = 1\nintegrator = \"cvode\"\norder = 7\n[initial]\ny = 1\n",
               0, "simulation", "1..5");
   ExpectError("[simulation]\nduration = 1\nrecord_every = 4294967296\n[initial]\ny = 1\n", 3,

@@ -14,6 +14,7 @@
 #include "cli/commands.h"
 #include "cli/data_root.h"
 #include "gait_synthesis.h"
+#include "gait_targets.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
@@ -107,7 +108,7 @@ int RunSynthesize(const SynthesizeArgs& a) {
   GaitRecord record;
   const std::string name = a.name.empty() ? DefaultName(a.v_m) : a.name;
   if (!IsSafeName(name)) {
-    std::cerr << "rabbit gaits synthesize: --name: use letters, digits, '.', '_' and '-' only\n";
+    std::cerr << "rabbit gaits synthesize: --name: " << SafeNameRule(name) << "\n";
     return 2;
   }
   const bool ok = SynthesizeOne(options, name, a.quiet, &record);
@@ -142,46 +143,9 @@ std::vector<SynthesisOptions> DefaultTargets() {
   return out;
 }
 
-// A `bounds` table: `name = [lower, upper]` for any of kSynthesisParamNames, over *bounds.
-void ReadBounds(TomlReader& t, std::array<std::pair<double, double>, kSynthesisParams>* bounds) {
-  if (!t.Has("bounds")) return;
-  TomlReader b = t.Table("bounds");
-  for (int i = 0; i < kSynthesisParams; ++i) {
-    const char* name = kSynthesisParamNames[i];
-    if (!b.Has(name)) continue;
-    const std::vector<double> v = b.Doubles(name, {}, 2);
-    if (!(v[0] < v[1])) b.Fail(name, "need [lower, upper] with lower < upper");
-    (*bounds)[i] = {v[0], v[1]};
-  }
-  b.Finish();
-}
-
-std::vector<SynthesisOptions> ReadTargets(const std::string& path) {
-  TomlReader root = TomlReader::ParseFile(path);
-  std::array<std::pair<double, double>, kSynthesisParams> common = DefaultSynthesisBounds();
-  ReadBounds(root, &common);
-  std::vector<SynthesisOptions> out;
-  for (TomlReader& t : root.TableArray("gait")) {
-    SynthesisOptions o;
-    o.bounds = common;
-    ReadBounds(t, &o.bounds);
-    o.target_v_m = t.RequiredDouble("v_m");
-    o.target_l_step = t.Double("l_step", 0.0);
-    o.seed = static_cast<unsigned>(t.Integer("seed", o.seed, 0, 4294967295L));
-    o.budget = static_cast<int>(t.Integer("budget", o.budget, 1, 1000000));
-    t.Finish();
-    std::string error;
-    if (!o.IsValid(&error)) t.Fail("", error);
-    out.push_back(o);
-  }
-  root.Finish();
-  if (out.empty()) root.Fail("gait", "no [[gait]] targets");
-  return out;
-}
-
 int RunGenerate(const GenerateArgs& a) {
   const std::vector<SynthesisOptions> targets =
-      a.config.empty() ? DefaultTargets() : ReadTargets(a.config);
+      a.config.empty() ? DefaultTargets() : ReadGaitTargets(a.config);
   std::vector<GaitRecord> records(targets.size());
   std::vector<char> ok(targets.size(), 0);
   std::vector<std::string> errors(targets.size());

@@ -12,6 +12,7 @@
 
 #include "cli/commands.h"
 #include "cli/data_root.h"
+#include "cli/flag_checks.h"
 #include "cmac_fit.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
@@ -25,6 +26,8 @@ namespace rabbit::cli {
 namespace {
 
 constexpr double kDeg = M_PI / 180.0;
+// fis eval --vm: five times the fastest shipped gait, either way.
+constexpr double kMaxFlagSpeed = 5.0;  // m/s
 
 struct TrainArgs {
   std::string gaits = "gaits/reference";
@@ -73,8 +76,7 @@ int RunTrain(const TrainArgs& a) {
     // The gait's name becomes file names: it must be safe and unique.
     if (!IsSafeName(gaits.back().name) || !names.insert(gaits.back().name).second) {
       throw InputError(path, 0, "name",
-                       "gait names must be unique and use letters, digits, '.', "
-                       "'_' and '-' only");
+                       "gait names must be unique and " + SafeNameRule(gaits.back().name));
     }
     for (const SwingSample& s : gaits.back().swing) {
       e_min = std::min(e_min, s.e);
@@ -273,10 +275,14 @@ Command RegisterFis(CLI::App* app) {
   CLI::App* eval = fis->add_subcommand("eval", "Rule activations at X = [V_M, d_obs]");
   DataDefault(eval, eval->add_option("fll", a->fll, "FLL file (a default is below the data root)"),
               &a->fll);
-  eval->add_option("--vm", a->v_m, "Average velocity V_M, m/s")->required();
-  eval->add_option("--dobs", a->d_obs, "Distance to the next obstacle, m (1 = none)");
+  eval->add_option("--vm", a->v_m, "Average velocity V_M, m/s")
+      ->required()
+      ->check(NumberIn(-kMaxFlagSpeed, kMaxFlagSpeed, "m/s"));
+  eval->add_option("--dobs", a->d_obs, "Distance to the next obstacle, m (1 = none)")
+      ->check(NumberIn(0.0, std::numeric_limits<double>::infinity(), "m"));
   CLI::Option* e =
-      eval->add_option("--e-deg", a->e, "Stance hip angle e, deg: print the merged references");
+      eval->add_option("--e-deg", a->e, "Stance hip angle e, deg: print the merged references")
+          ->check(NumberIn(-180.0, 180.0, "deg"));
   DataDefault(
       eval,
       eval->add_option("--networks", a->networks,

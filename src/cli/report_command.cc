@@ -10,6 +10,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "cli/flag_checks.h"
 #include "rabbit/io/error.h"
 #include "rabbit/report/shards.h"
 #include "rabbit/report/suite_report.h"
@@ -105,7 +106,8 @@ Command RegisterReport(CLI::App* app) {
                   "Seconds between the figures of a stick diagram");
   cmd->add_option("--family-details", args->options.family_details,
                   "Figures, steps and replays for the first N members of each family only "
-                  "(-1: every member)");
+                  "(-1: every member)")
+      ->check(IntegerIn(-1, kMaxFamilyDetails));
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but warnings and errors");
   return {cmd, [args] { return RunReport(*args); }};
 }

@@ -31,6 +31,7 @@
 #include "cli/commands.h"
 #include "cli/data_root.h"
 #include "cli/run_summary.h"
+#include "cli/flag_checks.h"
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/error.h"
 #include "rabbit/report/comparison.h"
@@ -536,7 +537,8 @@ Command RegisterRun(CLI::App* app) {
                   "gnuplot executable for the figures (searched on PATH without a '/')");
   cmd->add_option("--family-details", args->report.family_details,
                   "Figures, steps and replays for the first N members of each family only "
-                  "(-1: every member)");
+                  "(-1: every member)")
+      ->check(IntegerIn(-1, kMaxFamilyDetails));
   cmd->add_flag(
       "--no-html", [args](std::int64_t) { args->html = false; },
       "Write the CSV files only (summary.csv, comparison.csv, the runs')");

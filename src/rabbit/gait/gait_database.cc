@@ -8,8 +8,10 @@
 #include <functional>
 #include <iomanip>
 #include <sstream>
+#include <tuple>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/csv.h"
 #include "rabbit/io/error.h"
 
@@ -18,6 +20,14 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 const char* const kColumns[] = {"e_rad", "q_i1_rad", "q_i2_rad", "qd_i1_rad_s", "qd_i2_rad_s"};
+const char* const kIndexColumns[] = {"name",     "file",     "target_v_m", "measured_v_m",
+                                     "l_step_m", "t_step_s", "steps",      "source"};
+
+std::string IndexHeader() {
+  std::string out;
+  for (const char* c : kIndexColumns) out += (out.empty() ? "" : ",") + std::string(c);
+  return out;
+}
 
 // The gait's metadata as ordered key/value pairs (angles in degrees at the edge).
 std::vector<std::pair<std::string, double>> NumericMetadata(const GaitRecord& g) {
@@ -87,8 +97,7 @@ void WriteGaitFile(const GaitRecord& g, const std::string& path) {
 }
 
 GaitRecord ReadGaitFile(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "", "cannot open gait file");
+  std::istringstream in(ReadBoundedFile(path, kGaitFileLimits));
   std::map<std::string, std::pair<std::string, int>> meta;  // key -> value, line
   std::string line;
   int number = 0;
@@ -103,7 +112,13 @@ GaitRecord ReadGaitFile(const std::string& path) {
       if (header_seen) throw InputError(path, number, "", "comment after the column header");
       const size_t eq = line.find('=');
       if (eq == std::string::npos) continue;  // free comment
-      meta[Trim(line.substr(1, eq - 1))] = {Trim(line.substr(eq + 1)), number};
+      const std::string key = Trim(line.substr(1, eq - 1));
+      const auto [it, inserted] = meta.insert({key, {Trim(line.substr(eq + 1)), number}});
+      if (!inserted) {
+        throw InputError(
+            path, number, key,
+            "metadata key given twice (first on line " + std::to_string(it->second.second) + ")");
+      }
       continue;
     }
     if (!header_seen) {
@@ -207,7 +222,7 @@ GaitRecord ReadGaitFile(const std::string& path) {
 
 void WriteGaitIndex(const std::vector<GaitIndexEntry>& entries, const std::string& path) {
   WriteFileAtomically(path, [&entries](std::ostream& out) {
-    out << "name,file,target_v_m,measured_v_m,l_step_m,t_step_s,steps,source\n";
+    out << IndexHeader() << "\n";
     out << std::setprecision(6);
     for (const GaitIndexEntry& e : entries) {
       out << e.name << ',' << e.file << ',' << e.target_v_m << ',' << e.measured_v_m << ','
@@ -218,15 +233,38 @@ void WriteGaitIndex(const std::vector<GaitIndexEntry>& entries, const std::strin
 
 std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
   std::vector<GaitIndexEntry> entries;
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "", "cannot open gait index");
+  std::istringstream in(ReadBoundedFile(path, kIndexFileLimits));
   std::string line;
   int number = 0;
+  bool header_seen = false;
+  std::map<std::string, int> line_of_name, line_of_file;
   while (std::getline(in, line)) {
     ++number;
-    if (number == 1 || Trim(line).empty()) continue;
+    if (Trim(line).empty()) continue;
     const std::vector<std::string> c = SplitCsv(line);
-    if (c.size() != 8) throw InputError(path, number, "", "expected 8 cells");
+    if (!header_seen) {
+      header_seen = true;
+      if (c != std::vector<std::string>(std::begin(kIndexColumns), std::end(kIndexColumns))) {
+        throw InputError(
+            path, number, "",
+            "expected the header row \"" + IndexHeader() + "\", got \"" + Trim(line) + "\"");
+      }
+      continue;
+    }
+    if (c.size() != std::size(kIndexColumns)) {
+      throw InputError(path, number, "",
+                       "expected " + std::to_string(std::size(kIndexColumns)) + " cells (" +
+                           IndexHeader() + "), got " + std::to_string(c.size()));
+    }
+    for (auto [seen, value, key] :
+         {std::tuple(&line_of_name, c[0], "name"), std::tuple(&line_of_file, c[1], "file")}) {
+      const auto [it, inserted] = seen->insert({value, number});
+      if (!inserted) {
+        throw InputError(path, number, key,
+                         "gait \"" + value + "\" listed twice (first on line " +
+                             std::to_string(it->second) + ")");
+      }
+    }
     GaitIndexEntry e;
     e.name = c[0];
     e.file = c[1];
@@ -240,6 +278,8 @@ std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
     e.source = c[7];
     entries.push_back(e);
   }
+  if (!header_seen)
+    throw InputError(path, 0, "", "empty file: expected the header row \"" + IndexHeader() + "\"");
   return entries;
 }
 

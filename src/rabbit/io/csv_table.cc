@@ -1,10 +1,9 @@
 #include "rabbit/io/csv_table.h"
 
 #include <cmath>
-#include <fstream>
 #include <limits>
-#include <sstream>
 
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/csv.h"
 #include "rabbit/io/error.h"
 
@@ -144,12 +143,7 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& file) {
 }
 
 CsvTable CsvTable::Read(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, "", "cannot open the file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(path, 0, "", "cannot read the file");
-  return Parse(text.str(), path);
+  return Parse(ReadBoundedFile(path, kCsvTableLimits), path);
 }
 
 bool CsvTable::HasColumn(const std::string& name) const {

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <sstream>
 
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/error.h"
 
 namespace rabbit {
@@ -53,11 +54,9 @@ TomlReader::TomlReader(std::vector<std::shared_ptr<const toml::table>> owners,
       line_(line) {}
 
 TomlReader TomlReader::ParseFile(const std::string& path) {
-  if (!std::filesystem::is_regular_file(path)) {
-    throw InputError(path, 0, "", "no such file");
-  }
+  const std::string text = ReadBoundedFile(path, kTomlFileLimits);
   try {
-    auto root = std::make_shared<const toml::table>(toml::parse_file(path));
+    auto root = std::make_shared<const toml::table>(toml::parse(text, path));
     const toml::table* table = root.get();
     return TomlReader({std::move(root)}, {table}, path, "", 1);
   } catch (const toml::parse_error& e) {
@@ -373,7 +372,8 @@ void TomlReader::Finish() const {
         separator = ", ";
       }
       throw InputError(file_, LineOf(&node), PathOf(name),
-                       "unknown key (expected one of: " + expected.str() + ")");
+                       known_.empty() ? std::string("unknown key (this table takes no keys)")
+                                      : "unknown key (expected one of: " + expected.str() + ")");
     }
   }
 }

@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/csv.h"
 #include "rabbit/io/error.h"
 
@@ -498,12 +499,7 @@ TsFis ParseFll(const std::string& text, const std::string& file) {
 }
 
 TsFis LoadFll(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, "", "cannot open the FLL file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(path, 0, "", "cannot read the FLL file");
-  return ParseFll(text.str(), path);
+  return ParseFll(ReadBoundedFile(path, kFllFileLimits), path);
 }
 
 }  // namespace rabbit

@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/csv.h"
 #include "rabbit/io/error.h"
 #include "rabbit/learn/fll.h"
@@ -19,18 +20,36 @@ namespace rabbit {
 
 const char* const kGaitOutputNames[kGaitOutputs] = {"q_i1", "q_i2", "qd_i1", "qd_i2"};
 
+namespace {
+constexpr const char* kNetworkIndexHeader = "gait,output,file,method,rms,weights";
+}  // namespace
+
 std::vector<NetworkIndexEntry> ReadNetworkIndex(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "", "cannot open network index");
+  std::istringstream in(ReadBoundedFile(path, kIndexFileLimits));
   std::vector<NetworkIndexEntry> out;
   std::string line;
   int number = 0;
+  bool header_seen = false;
   while (std::getline(in, line)) {
     ++number;
-    if (number == 1 || line.empty()) continue;
+    if (Trim(line).empty()) continue;
     const std::vector<std::string> c = SplitCsv(line);
-    if (c.size() != 6) throw InputError(path, number, "", "expected 6 cells");
+    if (!header_seen) {
+      header_seen = true;
+      if (Trim(line) != kNetworkIndexHeader) {
+        throw InputError(path, number, "",
+                         std::string("expected the header row \"") + kNetworkIndexHeader +
+                             "\", got \"" + Trim(line) + "\"");
+      }
+      continue;
+    }
+    if (c.size() != 6) {
+      throw InputError(path, number, "",
+                       std::string("expected 6 cells (") + kNetworkIndexHeader + "), got " +
+                           std::to_string(c.size()));
+    }
     NetworkIndexEntry e;
+    e.line = number;
     e.gait = c[0];
     e.output = c[1];
     e.file = c[2];
@@ -42,12 +61,17 @@ std::vector<NetworkIndexEntry> ReadNetworkIndex(const std::string& path) {
     e.weights = static_cast<int>(weights);
     out.push_back(e);
   }
+  if (!header_seen) {
+    throw InputError(
+        path, 0, "",
+        std::string("empty file: expected the header row \"") + kNetworkIndexHeader + "\"");
+  }
   return out;
 }
 
 void WriteNetworkIndex(const std::vector<NetworkIndexEntry>& entries, const std::string& path) {
   WriteFileAtomically(path, [&entries](std::ostream& out) {
-    out << "gait,output,file,method,rms,weights\n" << std::setprecision(6);
+    out << kNetworkIndexHeader << "\n" << std::setprecision(6);
     for (const NetworkIndexEntry& e : entries) {
       out << e.gait << ',' << e.output << ',' << e.file << ',' << e.method << ',' << e.rms << ','
           << e.weights << "\n";
@@ -69,11 +93,12 @@ std::vector<GaitCmacs> LoadGaitNetworks(const std::string& dir,
     const auto output =
         std::find(std::begin(kGaitOutputNames), std::end(kGaitOutputNames), e.output);
     if (output == std::end(kGaitOutputNames)) {
-      throw InputError(index_path, 0, e.output, "unknown output (q_i1, q_i2, qd_i1 or qd_i2)");
+      throw InputError(index_path, e.line, e.output, "unknown output (q_i1, q_i2, qd_i1 or qd_i2)");
     }
     const fs::path file(e.file);
     if (file.is_absolute() || e.file.find("..") != std::string::npos) {
-      throw InputError(index_path, 0, e.file, "network files must lie in the networks directory");
+      throw InputError(index_path, e.line, e.file,
+                       "network files must lie in the networks directory");
     }
     if (slot.count(e.gait) == 0) {
       slot[e.gait] = slots.size();
@@ -81,8 +106,24 @@ std::vector<GaitCmacs> LoadGaitNetworks(const std::string& dir,
       slots.emplace_back();
     }
     std::unique_ptr<Cmac>& place = slots[slot[e.gait]][output - std::begin(kGaitOutputNames)];
-    if (place != nullptr) throw InputError(index_path, 0, e.gait + " " + e.output, "listed twice");
-    place = std::make_unique<Cmac>(ReadCmacFile((fs::path(dir) / file).string(), nullptr));
+    if (place != nullptr) {
+      throw InputError(index_path, e.line, e.gait + " " + e.output, "listed twice");
+    }
+    const std::string cmac_path = (fs::path(dir) / file).string();
+    std::map<std::string, std::string> metadata;
+    place = std::make_unique<Cmac>(ReadCmacFile(cmac_path, &metadata));
+    // The file's own header says which gait and output it holds (when it says): they must be the
+    // index row's.
+    for (const auto& [key, want] :
+         {std::pair<const char*, const std::string&>("gait", e.gait),
+          std::pair<const char*, const std::string&>("output", e.output)}) {
+      const auto it = metadata.find(key);
+      if (it != metadata.end() && it->second != want) {
+        throw InputError(index_path, e.line, key,
+                         "the row says " + std::string(key) + " \"" + want + "\" but " + cmac_path +
+                             " says \"" + it->second + "\"");
+      }
+    }
   }
   for (size_t k = 0; k < slots.size(); ++k) {
     gaits.emplace_back();

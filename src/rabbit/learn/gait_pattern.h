@@ -19,6 +19,7 @@ struct NetworkIndexEntry {
   std::string gait, output, file, method;
   double rms = 0.0;  // training RMS error, in the output's units (rad or rad/s)
   int weights = 0;
+  int line = 0;  // where the reader found it (0: not read from a file)
 };
 std::vector<NetworkIndexEntry> ReadNetworkIndex(const std::string& path);  // throws InputError
 void WriteNetworkIndex(const std::vector<NetworkIndexEntry>& entries, const std::string& path);

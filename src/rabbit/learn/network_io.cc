@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/csv.h"
 #include "rabbit/io/error.h"
 
@@ -102,8 +103,7 @@ void WriteCmacFile(const Cmac& cmac, const std::map<std::string, std::string>& m
 }
 
 Cmac ReadCmacFile(const std::string& path, std::map<std::string, std::string>* metadata) {
-  std::ifstream in(path);
-  if (!in) throw InputError(path, 0, "", "cannot open network file");
+  std::istringstream in(ReadBoundedFile(path, kNetworkFileLimits));
   std::map<std::string, Entry> meta;
   std::string line;
   int number = 0;

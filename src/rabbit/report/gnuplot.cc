@@ -15,6 +15,8 @@
 #include <sstream>
 #include <thread>
 
+#include "rabbit/io/bounded_read.h"
+
 extern char** environ;
 
 namespace rabbit {
@@ -52,16 +54,17 @@ bool IsPlainName(const std::string& name) {
          name.find('\0') == std::string::npos;
 }
 
-// The first few lines of gnuplot's messages, for a warning.
+// The first few lines of gnuplot's messages, for a warning, cut at kMaxQuotedOutputBytes in all
+// (with a note of what was left out).
 std::string Head(const std::string& text, int max_lines) {
   std::istringstream in(text);
   std::string line, out;
   for (int k = 0; k < max_lines && std::getline(in, line);) {
     if (line.find_first_not_of(" \t\r") == std::string::npos) continue;
-    out += (out.empty() ? "" : " | ") + line;
+    out += (out.empty() ? "" : " | ") + TruncateForMessage(line, kMaxQuotedOutputBytes);
     ++k;
   }
-  return out;
+  return TruncateForMessage(out, kMaxQuotedOutputBytes);
 }
 
 }  // namespace

@@ -1,10 +1,10 @@
 #include "rabbit/scenario/batch.h"
 
+#include <re2/re2.h>
+
 #include <atomic>
-#include <cctype>
 #include <exception>
 #include <mutex>
-#include <regex>
 #include <system_error>
 #include <thread>
 
@@ -12,50 +12,43 @@
 
 namespace rabbit {
 
+namespace {
+
+RE2::Options FilterOptions() {
+  RE2::Options options;
+  options.set_log_errors(false);  // the error goes into the InputError instead
+  return options;
+}
+
+}  // namespace
+
 std::string RegexFilterProblem(const std::string& filter) {
-  // The digits from position i on: false when they are a number above the limit.
-  auto number_ok = [&filter](std::size_t i) {
-    long value = 0;
-    for (; i < filter.size() && std::isdigit(static_cast<unsigned char>(filter[i])); ++i) {
-      value = value * 10 + (filter[i] - '0');
-      if (value > kMaxRegexNumber) return false;
-    }
-    return true;
-  };
-  const std::string problem = "numbers in back-references and {n,m} repeats must be at most " +
-                              std::to_string(kMaxRegexNumber);
-  bool in_braces = false;
-  for (std::size_t i = 0; i < filter.size(); ++i) {
-    const char c = filter[i];
-    if (c == '\\') {
-      if (!number_ok(i + 1)) return problem;
-      ++i;  // the escaped character is no brace
-    } else if (c == '{') {
-      in_braces = true;
-      if (!number_ok(i + 1)) return problem;
-    } else if (c == ',' && in_braces) {
-      if (!number_ok(i + 1)) return problem;
-    } else if (c == '}') {
-      in_braces = false;
-    }
+  if (filter.empty()) return "";
+  const RE2 re(filter, FilterOptions());
+  if (re.ok()) return "";
+  return re.error() + " (RE2 syntax: no back-references or look-around, repeats up to {1000})";
+}
+
+NameFilter::NameFilter(const std::string& pattern, const std::string& where,
+                       const std::string& key) {
+  if (pattern.empty()) return;
+  auto re = std::make_shared<const RE2>(pattern, FilterOptions());
+  if (!re->ok()) {
+    throw InputError(where, 0, key,
+                     "not a usable regular expression: " + RegexFilterProblem(pattern));
   }
-  return "";
+  re_ = std::move(re);
+}
+
+bool NameFilter::Matches(const std::string& name) const {
+  return re_ == nullptr || RE2::PartialMatch(name, *re_);
 }
 
 std::vector<BatchJob> PlanBatch(const Suite& suite, const std::string& filter) {
-  const std::string problem = RegexFilterProblem(filter);
-  if (!problem.empty()) {
-    throw InputError("--filter", 0, filter, "not a usable regular expression: " + problem);
-  }
-  std::regex pattern;
-  try {
-    pattern = std::regex(filter, std::regex::ECMAScript);
-  } catch (const std::regex_error& e) {
-    throw InputError("--filter", 0, filter, std::string("not a regular expression: ") + e.what());
-  }
+  const NameFilter pattern(filter, "--filter", filter);
   std::vector<BatchJob> jobs;
   for (const Scenario& s : suite.scenarios) {
-    if (!filter.empty() && !std::regex_search(s.name, pattern)) continue;
+    if (!pattern.Matches(s.name)) continue;
     for (const std::string& variant : ScenarioVariants(s)) jobs.push_back({&s, variant});
   }
   return jobs;

@@ -5,11 +5,16 @@
 #define RABBIT_SCENARIO_BATCH_H_
 
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "rabbit/scenario/run.h"
 #include "rabbit/scenario/suite.h"
+
+namespace re2 {
+class RE2;
+}  // namespace re2
 
 namespace rabbit {
 
@@ -18,16 +23,28 @@ struct BatchJob {
   std::string variant;
 };
 
-// The runs of a suite: each scenario whose name matches `filter` (ECMAScript regex, searched;
-// empty = all), with its main variant then its baselines. Throws InputError for a bad regex.
-std::vector<BatchJob> PlanBatch(const Suite& suite, const std::string& filter);
+// A filter of scenario names (--filter, a tuning job's `filter`): a regular expression in RE2's
+// syntax (https://github.com/google/re2/wiki/Syntax), searched anywhere in the name, as
+// ECMAScript's regex_search would; RE2 matches in time linear in the name, whatever the pattern.
+// It has no back-references (\1) and no look-around ((?=...), (?!...)); repeats {n,m} go up to
+// 1000. An empty pattern matches every name.
+class NameFilter {
+ public:
+  NameFilter() = default;
+  // Throws InputError(where, 0, key, ...) when `pattern` is not a valid RE2 expression.
+  NameFilter(const std::string& pattern, const std::string& where, const std::string& key);
+  bool Matches(const std::string& name) const;
 
-// Why std::regex must not be given `filter`, or "" when it may: a number in a back-reference or a
-// {n,m} repeat above kMaxRegexNumber. libstdc++ reads those numbers with a signed overflow (found
-// by fuzzing: the back-reference \4444444444444444444) and builds one state per repeat, so huge
-// ones are undefined behaviour or exhaust memory; names of scenarios need neither.
-constexpr long kMaxRegexNumber = 1000;
+ private:
+  std::shared_ptr<const re2::RE2> re_;  // null: match everything
+};
+
+// Why `filter` is not a usable name filter (RE2's own message), or "" when it is.
 std::string RegexFilterProblem(const std::string& filter);
+
+// The runs of a suite: each scenario whose name matches `filter` (a NameFilter; empty = all), with
+// its main variant then its baselines. Throws InputError naming --filter for a bad pattern.
+std::vector<BatchJob> PlanBatch(const Suite& suite, const std::string& filter);
 
 // Runs the jobs on `threads` threads (0: all cores). Loads each gait library once. For every
 // finished run calls on_done(job index, run) from the worker thread that ran it, serialised by a

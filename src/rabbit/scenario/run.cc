@@ -11,6 +11,7 @@
 #include <string>
 
 #include "rabbit/control/pragmatic_rules.h"
+#include "rabbit/control/step_planner.h"
 #include "rabbit/io/error.h"
 #include "rabbit/learn/fll.h"
 #include "rabbit/learn/gait_pattern.h"
@@ -226,6 +227,17 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     for (const GaitRecord& g : library->gaits) params.gait_rules.push_back(g.spec.rules);
     params.gait_l_steps.clear();
     for (const GaitRecord& g : library->gaits) params.gait_l_steps.push_back(g.measured.l_step);
+    if (params.planner.enabled && variant != "multi_cmac") {
+      // The step planner blends the gaits by their step lengths: name the database they came from.
+      try {
+        (void)StepLengthFis(params.gait_l_steps);
+      } catch (const std::invalid_argument& e) {
+        throw InputError((std::filesystem::path(library->files.gaits) / "index.csv").string(), 0,
+                         "measured_l_step_m",
+                         std::string(e.what()) + " for the step planner of scenario \"" +
+                             scenario.name + "\" (" + scenario.file + ", controller.planner)");
+      }
+    }
     std::unique_ptr<SwingPattern> pattern;
     if (variant == "multi_cmac") {
       // The pure multi-input CMAC pattern: it has no per-gait weights to share the gaits' own

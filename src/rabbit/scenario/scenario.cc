@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "rabbit/gait/gait_database.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/learn/fll.h"
@@ -177,7 +178,10 @@ void ReadSimulation(TomlReader t, Scenario* s) {
   } else {
     o.duration = t.RequiredDouble("duration");
   }
-  if (o.duration < 0.0) t.Fail("duration", "must be >= 0");
+  if (!(o.duration >= 0.0 && o.duration <= kMaxDurationS)) {
+    t.Fail("duration",
+           "must be in [0, " + FormatLimit(kMaxDurationS) + "] s, got " + FormatLimit(o.duration));
+  }
   const double rate = t.Double("control_rate_hz", 1.0 / o.control_period);
   if (!(rate >= 1.0 && rate <= kMaxControlRate)) {
     t.Fail("control_rate_hz",
@@ -195,7 +199,9 @@ void ReadSimulation(TomlReader t, Scenario* s) {
   o.integrator.order = static_cast<int>(t.Integer("order", o.integrator.order, 0, 12));
   o.contact = t.Bool("contact", o.contact);
   o.restart_at_samples = t.Bool("restart_at_samples", o.restart_at_samples);
-  o.record_every = static_cast<int>(t.Integer("record_every", o.record_every, 0, 1000000));
+  // 0 (record nothing) is for internal runs only: distance, speed and cost of transport come from
+  // the samples.
+  o.record_every = static_cast<int>(t.Integer("record_every", o.record_every, 1, 1000000));
   if (t.Has("max_wall_s")) {
     o.max_wall = t.Double("max_wall_s", 0.0);
     if (!(o.max_wall > 0.0)) t.Fail("max_wall_s", "must be > 0 s");
@@ -204,6 +210,11 @@ void ReadSimulation(TomlReader t, Scenario* s) {
   t.Finish();
   if (o.duration / o.control_period > kMaxPeriods) {
     t.Fail("duration", "too long for the control rate (more than 1e8 control periods)");
+  }
+  if (o.duration / o.control_period / o.record_every > kMaxRecordedSamples) {
+    t.Fail("record_every", "the run would record more than " + FormatLimit(kMaxRecordedSamples) +
+                               " samples (duration / control period / record_every): raise "
+                               "record_every or shorten the run");
   }
   std::string error;
   if (!o.IsValid(&error)) t.Fail("", error);
@@ -554,9 +565,14 @@ void ReadRecovery(TomlReader r, RecoveryParams* p) {
 void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
   s->controller = ControllerKind::kFuzzyCmac;
   GaitPatternFiles& f = s->pattern;
-  f.fll = ResolvePath(*t, t->String("fll", "../gaits/gait_pattern.fll"));
-  f.networks = ResolvePath(*t, t->String("networks", "../gaits/networks"));
-  f.gaits = ResolvePath(*t, t->String("gaits", "../gaits/reference"));
+  auto path_of = [t](const std::string& key, const std::string& default_value) {
+    const std::string path = t->String(key, default_value);
+    if (path.empty()) t->Fail(key, "an empty path (name a file or folder, or leave the key out)");
+    return ResolvePath(*t, path);
+  };
+  f.fll = path_of("fll", "../gaits/gait_pattern.fll");
+  f.networks = path_of("networks", "../gaits/networks");
+  f.gaits = path_of("gaits", "../gaits/reference");
   ReadMembershipSets(t->Table("sets"), *CachedFll(f.fll), s);
   const std::vector<GaitIndexEntry> index =
       ReadGaitIndex((std::filesystem::path(f.gaits) / "index.csv").string());
@@ -706,8 +722,16 @@ TomlReader ControllerTable(TomlReader* root) {
 
 }  // namespace
 
+std::string SafeNameRule(const std::string& name) {
+  std::string rule = "use 1 to " + std::to_string(kMaxNameChars) +
+                     " letters, digits, '.', '_' and '-' (no \"..\")";
+  if (name.size() > kMaxNameChars) rule += ", got " + std::to_string(name.size()) + " characters";
+  return rule;
+}
+
 bool IsSafeName(const std::string& name) {
-  if (name.empty() || name.size() > 100 || name == "." || name.find("..") != std::string::npos) {
+  if (name.empty() || name.size() > kMaxNameChars || name == "." ||
+      name.find("..") != std::string::npos) {
     return false;
   }
   for (char c : name) {
@@ -774,7 +798,7 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name, const Pa
   s.name = root.String("name", default_name);
   if (s.name.empty()) root.Fail("name", "missing: every scenario of a suite needs a name");
   if (!IsSafeName(s.name)) {
-    root.Fail("name", "use letters, digits, '.', '_' and '-' only (it names the output folder)");
+    root.Fail("name", SafeNameRule(s.name) + " (it names the output folder)");
   }
   // "shards" is where a sharded run's parts wait for their merge (rabbit/report/shards.h).
   if (s.name == "summary.csv" || s.name == "comparison.csv" || s.name == "targets.csv" ||

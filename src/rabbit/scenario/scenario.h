@@ -115,8 +115,11 @@ ModelParams LoadModelFile(const std::string& path);
 // fuzzy_cmac, whose walker needs its gait pattern: see RunScenario in run.h).
 std::unique_ptr<Controller> MakeController(const Scenario& scenario);
 
-// Names that become file or folder names: letters, digits, '.', '_', '-'; no "..".
+// Names that become file or folder names: 1 to kMaxNameChars (100) letters, digits, '.', '_', '-';
+// no "..".
 bool IsSafeName(const std::string& name);
+// What IsSafeName demands, for messages; with the length of `name` when it is too long.
+std::string SafeNameRule(const std::string& name);
 
 // The simulation set-up a scenario describes, on `model` (built from scenario.model; it must
 // outlive the set-up).

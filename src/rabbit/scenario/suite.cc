@@ -172,7 +172,7 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
   targets.Finish();
   header.Finish();
   if (!IsSafeName(suite.name)) {
-    header.Fail("name", "use letters, digits, '.', '_' and '-' only (it names the report folder)");
+    header.Fail("name", SafeNameRule(suite.name) + " (it names the report folder)");
   }
   const TomlReader defaults = root.Table("defaults");
   const std::vector<const toml::table*>& default_layers = defaults.layers();
@@ -187,8 +187,7 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
   std::set<std::string> family_names;
   for (TomlReader& f : root.TableArray("family")) {
     const std::string name = f.String("name", "");
-    if (!IsSafeName(name))
-      f.Fail("name", "a family needs a name of letters, digits, '.', '_', '-'");
+    if (!IsSafeName(name)) f.Fail("name", "a family needs a name: " + SafeNameRule(name));
     if (name.size() > 96) f.Fail("name", "at most 96 characters (members add -000)");
     if (!family_names.insert(name).second) f.Fail("name", "two families named \"" + name + "\"");
     const long count = f.Integer("count", 0, 1, kMaxFamilyCount);

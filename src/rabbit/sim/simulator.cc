@@ -284,7 +284,12 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
   // The run ends at the last sample at or before `duration`.
   const long num_periods = std::lround(std::floor(opt.duration / opt.control_period + 1e-9));
   std::vector<int> fired;
-  if (opt.record_every > 0) result.samples.reserve(num_periods / opt.record_every + 1);
+  // Reserve for a short run only: a long one grows as it goes, so that a run that ends early (a
+  // fall) never holds memory for the samples it did not record.
+  constexpr long kReservedSamples = 1 << 16;
+  if (opt.record_every > 0) {
+    result.samples.reserve(std::min(num_periods / opt.record_every + 1, kReservedSamples));
+  }
   Data& sample_data = ctx.data;  // shared with the integrator's callbacks: same q, cached sines
   for (long k = 0;; ++k) {
     SimSample s;

@@ -1,0 +1,56 @@
+// Range checks of the numeric command-line flags, in one place (docs/bad-input.md lists the
+// ranges). A CLI11 validator sees the flag's text before CLI11 converts it, so an empty text
+// (`--vm ""`), trailing junk (`--vm 1x`), NaN and values outside the range are usage errors (exit
+// 2) naming the flag, instead of a silent 0 or a nonsense value.
+#ifndef RABBIT_CLI_FLAG_CHECKS_H_
+#define RABBIT_CLI_FLAG_CHECKS_H_
+
+#include <CLI/CLI.hpp>
+#include <charconv>
+#include <cmath>
+#include <cstdio>
+#include <limits>
+#include <string>
+#include <system_error>
+
+namespace rabbit::cli {
+
+// --family-details: -1 (every member) or at most this many members per family.
+constexpr long kMaxFamilyDetails = 100000;
+
+inline std::string FormatFlagBound(double v) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
+// The whole text as a number in [lo, hi] (an integer when `integer`); "inf" only if hi is
+// infinite. `unit` is appended to the range in the message.
+inline CLI::Validator NumberIn(double lo, double hi, const std::string& unit = "",
+                               bool integer = false) {
+  const std::string range = "[" + FormatFlagBound(lo) + ", " + FormatFlagBound(hi) + "]" +
+                            (unit.empty() ? "" : " " + unit);
+  const std::string kind = integer ? "an integer" : "a number";
+  return CLI::Validator(
+      [lo, hi, range, kind, integer](std::string& text) -> std::string {
+        double value = 0.0;
+        const char* end = text.data() + text.size();
+        const std::from_chars_result r = std::from_chars(text.data(), end, value);
+        const bool parsed = !text.empty() && r.ec == std::errc() && r.ptr == end;
+        if (!parsed || std::isnan(value) || !(value >= lo && value <= hi) ||
+            (integer && value != std::floor(value))) {
+          return "expected " + kind + " in " + range + ", got \"" + text + "\"";
+        }
+        return std::string();
+      },
+      kind + " in " + range);
+}
+
+inline CLI::Validator IntegerIn(long lo, long hi, const std::string& unit = "") {
+  return NumberIn(static_cast<double>(lo), static_cast<double>(hi), unit, true);
+}
+
+}  // namespace rabbit::cli
+
+#endif  // RABBIT_CLI_FLAG_CHECKS_H_

@@ -1,0 +1,606 @@
+// Hostile input, end to end: one row per class of bad input and per reader, each run through the
+// built `rabbit` binary in a scratch folder. Every row states the command, the exit code, the
+// fragments its message must hold (the file or flag or key, and the limit or range), the files
+// that must be left byte for byte as they were and the outputs that must not appear. Unbounded
+// input is a large sparse file or a FIFO fed by a writer thread with a bounded amount of data
+// (never a system device). No sleeps: the FIFO's writer is released by opening the FIFO.
+#include <fcntl.h>
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <atomic>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <map>
+#include <sstream>
+#include <string>
+#include <thread>
+#include <vector>
+
+// The table's rows leave their optional fields (untouched, absent, fifo) out.
+#pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kRoot = RABBIT_SOURCE_DIR;
+
+struct CliRun {
+  int code = -1;
+  std::string output;  // stdout and stderr
+};
+
+// The binary under test: the build's, or RABBIT_CLI when set (e.g. a sanitizer build's).
+std::string CliPath() {
+  const char* other = std::getenv("RABBIT_CLI");
+  return other != nullptr ? other : RABBIT_CLI_PATH;
+}
+
+CliRun RunCli(const std::string& args) {
+  const std::string command = CliPath() + " " + args + " 2>&1";
+  CliRun run;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return run;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) run.output.append(buffer, n);
+  const int status = pclose(pipe);
+  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return run;
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+void WriteText(const fs::path& path, const std::string& text) {
+  fs::create_directories(path.parent_path());
+  std::ofstream(path, std::ios::binary) << text;
+}
+
+void Replace(const fs::path& path, const std::string& from, const std::string& to) {
+  std::string text = ReadText(path);
+  const size_t at = text.find(from);
+  ASSERT_NE(at, std::string::npos) << from << " in " << path;
+  text.replace(at, from.size(), to);
+  WriteText(path, text);
+}
+
+// A sparse file of `bytes` (no disk used).
+void Sparse(const fs::path& path, std::uintmax_t bytes) {
+  WriteText(path, "");
+  fs::resize_file(path, bytes);
+}
+
+// Every regular file under `path` (or `path` itself) with its bytes.
+std::map<std::string, std::string> Snapshot(const fs::path& path) {
+  std::map<std::string, std::string> out;
+  if (fs::is_regular_file(path)) {
+    out[path.string()] = ReadText(path);
+  } else if (fs::is_directory(path)) {
+    for (const auto& entry : fs::recursive_directory_iterator(path)) {
+      if (entry.is_regular_file()) out[entry.path().string()] = ReadText(entry.path());
+    }
+  }
+  return out;
+}
+
+constexpr std::uintmax_t kMiB = 1024 * 1024;
+
+// A scenario file in the scratch folder (`body` after the name).
+std::string ScenarioText(const std::string& name, const std::string& body) {
+  return "name = \"" + name + "\"\n" + body;
+}
+
+// A walker scenario on the given gait database (other files shipped).
+std::string WalkerScenario(const std::string& gaits, const std::string& extra) {
+  return ScenarioText("w",
+                      "[simulation]\nduration = 1.0\n[velocity]\nvalue = 0.6\n"
+                      "[controller]\ntype = \"fuzzy_cmac\"\nfll = \"" +
+                          kRoot + "/gaits/gait_pattern.fll\"\nnetworks = \"" + kRoot +
+                          "/gaits/networks\"\ngaits = \"" + gaits + "\"\n" + extra);
+}
+
+const std::string kDrop =
+    "[simulation]\nduration = 0.05\n[initial]\nfoot_clearance = 0.02\n[controller]\n"
+    "type = \"pd_hold\"\nkp = 600.0\nkd = 30.0\n";
+// The same as one [[scenario]] of a suite.
+const std::string kDropInSuite =
+    "[scenario.simulation]\nduration = 0.05\n[scenario.initial]\nfoot_clearance = 0.02\n"
+    "[scenario.controller]\ntype = \"pd_hold\"\nkp = 600.0\nkd = 30.0\n";
+
+// One row of the table. Paths in `args`, `untouched` and `absent` may use {D} (the scratch
+// folder) and {R} (the source tree).
+struct Case {
+  std::string name;
+  std::function<void(const fs::path& dir)> setup;
+  std::string args;
+  int code;
+  std::vector<std::string> fragments;
+  std::vector<std::string> untouched;
+  std::vector<std::string> absent;
+  std::string fifo;  // a FIFO to create and feed (relative to {D}), or empty
+  std::uintmax_t fifo_bytes = 0;
+};
+
+std::string Expand(std::string s, const fs::path& dir) {
+  for (const auto& [key, value] :
+       {std::pair<std::string, std::string>("{D}", dir.string()), {"{R}", kRoot}}) {
+    for (size_t at = s.find(key); at != std::string::npos; at = s.find(key, at)) {
+      s.replace(at, key.size(), value);
+      at += value.size();
+    }
+  }
+  return s;
+}
+
+// Feeds `bytes` NUL bytes into the FIFO at `path` from a thread, as /dev/zero would but bounded.
+class FifoWriter {
+ public:
+  FifoWriter(const fs::path& path, std::uintmax_t bytes) : path_(path) {
+    EXPECT_EQ(::mkfifo(path.c_str(), 0600), 0);
+    thread_ = std::thread([this, bytes] {
+      const int fd = ::open(path_.c_str(), O_WRONLY);
+      if (fd >= 0) {
+        const std::string chunk(65536, '\0');
+        std::uintmax_t left = bytes;
+        while (left > 0) {
+          const ssize_t w = ::write(fd, chunk.data(), std::min<std::uintmax_t>(left, chunk.size()));
+          if (w <= 0) break;  // the reader stopped reading (EPIPE: SIGPIPE is ignored)
+          left -= static_cast<std::uintmax_t>(w);
+        }
+        ::close(fd);
+      }
+      done_ = true;
+    });
+  }
+  // Releases a writer still waiting for a reader (opening the FIFO without blocking), then joins.
+  ~FifoWriter() {
+    while (!done_) {
+      const int fd = ::open(path_.c_str(), O_RDONLY | O_NONBLOCK);
+      if (fd >= 0) ::close(fd);
+      std::this_thread::yield();
+    }
+    thread_.join();
+  }
+
+ private:
+  fs::path path_;
+  std::atomic<bool> done_{false};
+  std::thread thread_;
+};
+
+std::vector<Case> Cases() {
+  std::vector<Case> c;
+  // ---- Unbounded input: every reader stops at its limit, naming the file and the limit. ----
+  c.push_back({"gait index from a FIFO (as /dev/zero)",
+               [](const fs::path& d) { fs::create_directories(d / "g"); },
+               "gaits list --dir {D}/g",
+               2,
+               {"{D}/g/index.csv", "larger than 4 MiB", "index files"},
+               {},
+               {},
+               "g/index.csv",
+               6 * kMiB});
+  c.push_back({"FLL from a FIFO (as /dev/zero)",
+               [](const fs::path&) {},
+               "fis eval {D}/p.fll --vm 0.5",
+               2,
+               {"{D}/p.fll", "larger than 4 MiB", "FLL files"},
+               {},
+               {},
+               "p.fll",
+               5 * kMiB});
+  c.push_back({"CSV table: a 1 GB summary.csv",
+               [](const fs::path& d) {
+                 WriteText(d / "rep/.rabbit-report", "rabbit-report/1\n");
+                 Sparse(d / "rep/summary.csv", 1000000000);
+               },
+               "report {D}/rep",
+               2,
+               {"{D}/rep/summary.csv", "larger than 768 MiB", "CSV files"},
+               {},
+               {"{D}/rep/index.html"}});
+  c.push_back({"gait CSV: 20 MB",
+               [](const fs::path& d) {
+                 Sparse(d / "big.csv", 20 * kMiB);
+                 WriteText(d / "s.toml", ScenarioText("p",
+                                                      "[simulation]\nduration = 1\n"
+                                                      "[controller]\ntype = \"pragmatic\"\n"
+                                                      "gait = \"big.csv\"\n"));
+               },
+               "simulate {D}/s.toml --out {D}/t.csv",
+               2,
+               {"{D}/big.csv", "larger than 16 MiB", "gait files"},
+               {"{D}/s.toml"},
+               {"{D}/t.csv"}});
+  c.push_back({"network index: 5 MB",
+               [](const fs::path& d) { Sparse(d / "n/index.csv", 5 * kMiB); },
+               "fis eval {R}/gaits/gait_pattern.fll --vm 0.5 --e-deg 10 --networks {D}/n",
+               2,
+               {"{D}/n/index.csv", "larger than 4 MiB"}});
+  c.push_back({"network CSV: 300 MB",
+               [](const fs::path& d) {
+                 fs::copy(kRoot + "/gaits/networks", d / "n");
+                 Sparse(d / "n/vm_0.30_q_i1.csv", 300 * kMiB);
+               },
+               "fis eval {R}/gaits/gait_pattern.fll --vm 0.5 --e-deg 10 --networks {D}/n",
+               2,
+               {"{D}/n/vm_0.30_q_i1.csv", "larger than 256 MiB", "network files"}});
+  c.push_back({"FLL: one 100 kB line",
+               [](const fs::path& d) { WriteText(d / "l.fll", std::string(100000, 'x')); },
+               "fis eval {D}/l.fll --vm 0.5",
+               2,
+               {"{D}/l.fll:1", "line longer than 64 KiB"}});
+  for (const auto& [what, args] : std::vector<std::pair<std::string, std::string>>{
+           {"scenario", "simulate {D}/big.toml --out {D}/out"},
+           {"suite", "run {D}/big.toml --out {D}/out"},
+           {"tuning job", "tune {D}/big.toml --out {D}/out"},
+           {"gait targets", "gaits generate {D}/big.toml --dir {D}/out"},
+           {"overlay",
+            "simulate {R}/scenarios/drop_2cm.toml --params {D}/big.toml --out {D}/out"}}) {
+    c.push_back({"TOML " + what + ": 5 MB",
+                 [](const fs::path& d) { Sparse(d / "big.toml", 5 * kMiB); },
+                 args,
+                 2,
+                 {"{D}/big.toml", "larger than 4 MiB", "TOML files"},
+                 {},
+                 {"{D}/out"}});
+  }
+  c.push_back({"TOML model file: 5 MB",
+               [](const fs::path& d) {
+                 Sparse(d / "m.toml", 5 * kMiB);
+                 WriteText(d / "s.toml", ScenarioText("m", "[model]\nfile = \"m.toml\"\n" + kDrop));
+               },
+               "simulate {D}/s.toml --out {D}/t.csv",
+               2,
+               {"{D}/m.toml", "larger than 4 MiB"},
+               {},
+               {"{D}/t.csv"}});
+  c.push_back({"TOML: more than 100000 lines",
+               [](const fs::path& d) { WriteText(d / "s.toml", std::string(100001, '\n')); },
+               "simulate {D}/s.toml",
+               2,
+               {"{D}/s.toml:100001", "more than 100000 lines"}});
+
+  // ---- Nonsense values: refused with the key or flag and the range. ----
+  c.push_back({"record_every = 0",
+               [](const fs::path& d) {
+                 WriteText(d / "s.toml",
+                           ScenarioText("r",
+                                        "[simulation]\nduration = 0.05\nrecord_every = 0\n"
+                                        "[initial]\nfoot_clearance = 0.02\n"));
+               },
+               "simulate {D}/s.toml --out {D}/t.csv",
+               2,
+               {"{D}/s.toml:4", "'simulation.record_every'", "[1, 1000000]"},
+               {},
+               {"{D}/t.csv"}});
+  c.push_back({"duration = 99000",
+               [](const fs::path& d) {
+                 WriteText(d / "s.toml", ScenarioText("d",
+                                                      "[simulation]\nduration = 99000\n"
+                                                      "[initial]\nfoot_clearance = 0.02\n"));
+               },
+               "simulate {D}/s.toml --out {D}/t.csv",
+               2,
+               {"{D}/s.toml:3", "'simulation.duration'", "[0, 3600] s"},
+               {},
+               {"{D}/t.csv"}});
+  c.push_back({"more samples than kept",
+               [](const fs::path& d) {
+                 WriteText(d / "s.toml", ScenarioText("d",
+                                                      "[simulation]\nduration = 3000\n"
+                                                      "control_rate_hz = 1000\n"
+                                                      "[initial]\nfoot_clearance = 0.02\n"));
+               },
+               "simulate {D}/s.toml --out {D}/t.csv",
+               2,
+               {"'simulation.record_every'", "more than 1e+06 samples"},
+               {},
+               {"{D}/t.csv"}});
+  c.push_back({"--family-details -2 (run)",
+               [](const fs::path&) {},
+               "run {R}/scenarios/paper.toml --family-details -2 --out {D}/out",
+               2,
+               {"--family-details", "[-1, 100000]", "\"-2\""},
+               {},
+               {"{D}/out"}});
+  c.push_back({"--family-details -2 (report)",
+               [](const fs::path& d) { fs::create_directories(d / "rep"); },
+               "report {D}/rep --family-details -2",
+               2,
+               {"--family-details", "[-1, 100000]"}});
+  c.push_back({"fis eval --vm 1e308",
+               [](const fs::path&) {},
+               "fis eval --vm 1e308",
+               2,
+               {"--vm", "[-5, 5] m/s", "1e308"}});
+  c.push_back({"fis eval --vm \"\"",
+               [](const fs::path&) {},
+               "fis eval --vm ''",
+               2,
+               {"--vm", "expected a number", "got \"\""}});
+  c.push_back({"fis eval --e-deg nan",
+               [](const fs::path&) {},
+               "fis eval --vm 0.5 --e-deg nan",
+               2,
+               {"--e-deg", "[-180, 180] deg"}});
+  c.push_back({"search bounds [-1000, -999] deg",
+               [](const fs::path& d) {
+                 WriteText(d / "t.toml",
+                           "[[gait]]\nv_m = 0.5\n[gait.bounds]\n"
+                           "q0_d_deg = [-1000, -999]\n");
+               },
+               "gaits generate {D}/t.toml --dir {D}/out",
+               2,
+               {"{D}/t.toml:4", "q0_d_deg", "within [-45, 45]"},
+               {"{D}/t.toml"},
+               {"{D}/out"}});
+  c.push_back({"two targets for one gait",
+               [](const fs::path& d) {
+                 WriteText(d / "t.toml", "[[gait]]\nv_m = 0.5\n[[gait]]\nv_m = 0.501\n");
+               },
+               "gaits generate {D}/t.toml --dir {D}/out",
+               2,
+               {"{D}/t.toml:4", "'gait[2].v_m'", "vm_0.50"},
+               {},
+               {"{D}/out"}});
+  c.push_back({"network index: q_i1 pointing at the q_i2 file",
+               [](const fs::path& d) {
+                 fs::copy(kRoot + "/gaits/networks", d / "n");
+                 Replace(d / "n/index.csv", "vm_0.30,q_i1,vm_0.30_q_i1.csv",
+                         "vm_0.30,q_i1,vm_0.30_q_i2.csv");
+               },
+               "fis eval {R}/gaits/gait_pattern.fll --vm 0.5 --e-deg 10 --networks {D}/n",
+               2,
+               {"{D}/n/index.csv:2", "'output'", "says \"q_i2\""},
+               {"{D}/n"}});
+  c.push_back({"network index: header lacks columns",
+               [](const fs::path& d) {
+                 fs::copy(kRoot + "/gaits/networks", d / "n");
+                 Replace(d / "n/index.csv", "gait,output,file,method,rms,weights", "gait,output");
+               },
+               "fis eval {R}/gaits/gait_pattern.fll --vm 0.5 --e-deg 10 --networks {D}/n",
+               2,
+               {"{D}/n/index.csv:1", "expected the header row"},
+               {"{D}/n"}});
+  // A duplicated gait row: refused by every command that reads the index.
+  const auto duplicate = [](const fs::path& d) {
+    fs::copy(kRoot + "/gaits/reference", d / "g");
+    std::string text = ReadText(d / "g/index.csv");
+    const size_t second = text.find('\n') + 1;
+    text += text.substr(second, text.find('\n', second) + 1 - second);
+    WriteText(d / "g/index.csv", text);
+    WriteText(d / "s.toml", WalkerScenario((d / "g").string(), ""));
+  };
+  const std::vector<std::string> twice = {"{D}/g/index.csv:10", "'name'", "listed twice",
+                                          "first on line 2"};
+  c.push_back({"duplicated gait row: gaits list",
+               duplicate,
+               "gaits list --dir {D}/g",
+               2,
+               twice,
+               {"{D}/g"}});
+  c.push_back({"duplicated gait row: train",
+               duplicate,
+               "train --gaits {D}/g --out {D}/nets",
+               2,
+               twice,
+               {"{D}/g"},
+               {"{D}/nets"}});
+  c.push_back({"duplicated gait row: fis generate",
+               duplicate,
+               "fis generate --gaits {D}/g --out {D}/p.fll",
+               2,
+               twice,
+               {"{D}/g"},
+               {"{D}/p.fll"}});
+  c.push_back({"duplicated gait row: simulate",
+               duplicate,
+               "simulate {D}/s.toml --out {D}/t.csv",
+               2,
+               twice,
+               {"{D}/g"},
+               {"{D}/t.csv"}});
+  c.push_back({"duplicated gait row: gaits report",
+               duplicate,
+               "gaits report --dir {D}/g --out {D}/rep",
+               2,
+               twice,
+               {"{D}/g"},
+               {"{D}/rep"}});
+  c.push_back({"gait index: header lacks columns",
+               [](const fs::path& d) {
+                 fs::copy(kRoot + "/gaits/reference", d / "g");
+                 Replace(d / "g/index.csv", "name,file,target_v_m,measured_v_m,", "name,file,");
+               },
+               "gaits list --dir {D}/g",
+               2,
+               {"{D}/g/index.csv:1", "expected the header row"},
+               {"{D}/g"}});
+  c.push_back({"gait index: empty",
+               [](const fs::path& d) { WriteText(d / "g/index.csv", ""); },
+               "gaits list --dir {D}/g",
+               2,
+               {"{D}/g/index.csv", "empty file"}});
+  c.push_back({"gait file: a metadata key given twice",
+               [](const fs::path& d) {
+                 fs::copy(kRoot + "/gaits/reference/vm_0.60.csv", d / "g.csv");
+                 Replace(d / "g.csv", "# measured_v_m", "# hip_kp = 1\n# measured_v_m");
+                 WriteText(d / "s.toml", ScenarioText("p",
+                                                      "[simulation]\nduration = 1\n"
+                                                      "[controller]\ntype = \"pragmatic\"\n"
+                                                      "gait = \"g.csv\"\n"));
+               },
+               "simulate {D}/s.toml --out {D}/t.csv",
+               2,
+               {"{D}/g.csv:", "'hip_kp'", "given twice"},
+               {"{D}/g.csv"},
+               {"{D}/t.csv"}});
+
+  // ---- Errors that used to name nothing. ----
+  c.push_back({"fll = \"\"",
+               [](const fs::path& d) {
+                 WriteText(d / "s.toml", WalkerScenario(kRoot + "/gaits/reference", ""));
+                 Replace(d / "s.toml", "fll = \"" + kRoot + "/gaits/gait_pattern.fll\"",
+                         "fll = \"\"");
+               },
+               "simulate {D}/s.toml --out {D}/t.csv",
+               2,
+               {"{D}/s.toml:", "'controller.fll'", "empty path"},
+               {},
+               {"{D}/t.csv"}});
+  c.push_back({"gait step lengths not distinct (step planner)",
+               [](const fs::path& d) {
+                 fs::copy(kRoot + "/gaits/reference", d / "g");
+                 Replace(d / "g/vm_0.40.csv", "# measured_l_step_m = 0.24312254152355026",
+                         "# measured_l_step_m = 0.1531665699773094");
+                 WriteText(d / "s.toml", WalkerScenario((d / "g").string(),
+                                                        "[controller.planner]\nenabled = true\n"));
+               },
+               "simulate {D}/s.toml --out {D}/t.csv",
+               2,
+               {"{D}/g/index.csv", "measured_l_step_m", "must be distinct", "{D}/s.toml"},
+               {"{D}/g"},
+               {"{D}/t.csv"}});
+  c.push_back({"a 10 kB suite name",
+               [](const fs::path& d) {
+                 WriteText(d / "s.toml", "[suite]\nname = \"" + std::string(10240, 'a') +
+                                             "\"\n[[scenario]]\nname = \"x\"\n" + kDropInSuite);
+               },
+               "run {D}/s.toml --out {D}/out",
+               2,
+               {"{D}/s.toml", "'suite.name'", "1 to 100", "got 10240 characters"},
+               {"{D}/s.toml"},
+               {"{D}/out"}});
+  c.push_back({"a 10 kB gait name (--name)",
+               [](const fs::path&) {},
+               "gaits synthesize --vm 0.5 --name " + std::string(10240, 'a') + " --dir {D}/g",
+               2,
+               {"--name", "1 to 100", "got 10240 characters"},
+               {},
+               {"{D}/g"}});
+  c.push_back({"unknown bound key",
+               [](const fs::path& d) {
+                 WriteText(d / "t.toml", "[[gait]]\nv_m = 0.5\n[gait.bounds]\nfoo_deg = [1, 2]\n");
+               },
+               "gaits generate {D}/t.toml --dir {D}/out",
+               2,
+               {"{D}/t.toml:4", "'gait[1].bounds.foo_deg'", "expected one of: hip_kd"},
+               {},
+               {"{D}/out"}});
+
+  // ---- User regular expressions through RE2. ----
+  c.push_back({"--filter with a back-reference",
+               [](const fs::path&) {},
+               "run {R}/scenarios/paper.toml --filter '(a)\\1' --out {D}/out",
+               2,
+               {"--filter", "not a usable regular expression", "RE2"},
+               {},
+               {"{D}/out"}});
+  return c;
+}
+
+class HostileInputTest : public ::testing::TestWithParam<size_t> {
+ protected:
+  static void SetUpTestSuite() { std::signal(SIGPIPE, SIG_IGN); }
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rabbit_hostile_" + std::to_string(::getpid()) + "_" + std::to_string(GetParam()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  fs::path dir_;
+};
+
+TEST_P(HostileInputTest, RefusedNamingThePlaceAndLeavingEverythingAsItWas) {
+  const Case c = Cases()[GetParam()];
+  SCOPED_TRACE(c.name);
+  c.setup(dir_);
+  std::map<std::string, std::string> before;
+  for (const std::string& p : c.untouched) before.merge(Snapshot(Expand(p, dir_)));
+  ASSERT_TRUE(c.untouched.empty() || !before.empty());
+  const std::map<std::string, std::string> shipped = Snapshot(kRoot + "/gaits");
+  CliRun run;
+  {
+    std::unique_ptr<FifoWriter> writer;
+    if (!c.fifo.empty()) writer = std::make_unique<FifoWriter>(dir_ / c.fifo, c.fifo_bytes);
+    run = RunCli(Expand(c.args, dir_));
+  }
+  EXPECT_EQ(run.code, c.code) << run.output;
+  for (const std::string& f : c.fragments) {
+    EXPECT_NE(run.output.find(Expand(f, dir_)), std::string::npos)
+        << "missing \"" << Expand(f, dir_) << "\" in: " << run.output.substr(0, 2000);
+  }
+  EXPECT_LT(run.output.size(), 4000u) << "an error is one short message";
+  std::map<std::string, std::string> after;
+  for (const std::string& p : c.untouched) after.merge(Snapshot(Expand(p, dir_)));
+  EXPECT_TRUE(before == after) << "an input was changed";
+  for (const std::string& p : c.absent) EXPECT_FALSE(fs::exists(Expand(p, dir_))) << p;
+  EXPECT_TRUE(Snapshot(kRoot + "/gaits") == shipped) << "the shipped gaits changed";
+}
+
+INSTANTIATE_TEST_SUITE_P(Table, HostileInputTest, ::testing::Range<size_t>(0, Cases().size()),
+                         [](const ::testing::TestParamInfo<size_t>& row) {
+                           std::string name = std::to_string(row.param) + "_";
+                           const std::string text = Cases()[row.param].name;
+                           for (char ch : text) {
+                             name += std::isalnum(static_cast<unsigned char>(ch)) ? ch : '_';
+                           }
+                           return name;
+                         });
+
+// A pattern that backtracks exponentially in a backtracking engine ((a|aa)*c on 60 a's: about
+// 1.5e12 paths) is matched in linear time by RE2: the run selects nothing and says so.
+TEST(HostileFilterTest, ExponentialPatternOnALongNameEndsAtOnce) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("rabbit_hostile_filter_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  WriteText(dir / "s.toml", "[suite]\nname = \"f\"\n[[scenario]]\nname = \"" +
+                                std::string(60, 'a') + "\"\n" + kDropInSuite);
+  const CliRun run = RunCli("run " + (dir / "s.toml").string() + " --filter '(a|aa)*c' --out " +
+                            (dir / "out").string());
+  EXPECT_EQ(run.code, 2) << run.output;
+  EXPECT_NE(run.output.find("--filter"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(dir / "out"));
+  // And a pattern that does match selects the scenario.
+  const CliRun match = RunCli("run " + (dir / "s.toml").string() + " --filter '^(a|aa)*$' -q " +
+                              "--no-html --out " + (dir / "out").string());
+  EXPECT_EQ(match.code, 0) << match.output;
+  EXPECT_TRUE(fs::exists(dir / "out/summary.csv"));
+  fs::remove_all(dir);
+}
+
+// A gnuplot that prints 20 MB: the warning quotes a bounded part of it, with a note.
+TEST(HostileGnuplotTest, HugeOutputIsCutInTheWarning) {
+  const fs::path dir =
+      fs::temp_directory_path() / ("rabbit_hostile_gnuplot_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  WriteText(dir / "s.toml",
+            "[suite]\nname = \"g\"\n[[scenario]]\nname = \"drop\"\n" + kDropInSuite);
+  WriteText(dir / "gnuplot.sh", "#!/bin/sh\nyes x | head -c 20000000 | tr -d '\\n' >&2\nexit 1\n");
+  fs::permissions(dir / "gnuplot.sh", fs::perms::owner_all);
+  const CliRun run = RunCli("run " + (dir / "s.toml").string() + " -q --gnuplot " +
+                            (dir / "gnuplot.sh").string() + " --out " + (dir / "out").string());
+  EXPECT_EQ(run.code, 0) << run.output.substr(0, 2000);
+  EXPECT_NE(run.output.find("warning"), std::string::npos) << run.output.substr(0, 2000);
+  EXPECT_NE(run.output.find("more bytes left out"), std::string::npos)
+      << run.output.substr(0, 2000);
+  EXPECT_LT(run.output.size(), 20000u);
+  fs::remove_all(dir);
+}
+
+}  // namespace
