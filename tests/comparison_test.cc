@@ -176,11 +176,23 @@ TEST(CompareVariantsTest, CountsRatesAndMediansPerGroupAndVariant) {
                      "0.8499610108478505,"),
             std::string::npos)
       << csv;
+  // completed, fell, tripped, stalled, diverged, timeout, other_outcome: one timeout.
   EXPECT_NE(csv.find("\ns,f,scenario,1,fuzzy_cmac,fuzzy_cmac,main,1,0,0,0,0.7934506856227626,0,0,0,"
-                     "0,1,"
+                     "0,0,1,"
                      "0,0,nan,nan,0,nan,nan,nan,nan,nan\n"),
             std::string::npos)
       << csv;
+}
+
+TEST(CompareVariantsTest, AStalledRunIsCountedAsStalled) {
+  const std::vector<VariantComparison> c =
+      CompareVariants({Row("g-000", "g", "fuzzy_cmac", true, "stalled", false, 0.30, 0.5, 0),
+                       Row("g-001", "g", "fuzzy_cmac", true, "completed", true, 0.02, 0.25, 0)});
+  ASSERT_EQ(c.size(), 1u);
+  EXPECT_EQ(c[0].stalled, 1);
+  EXPECT_EQ(c[0].completed, 1);
+  EXPECT_EQ(c[0].other_outcome, 0);
+  EXPECT_EQ(c[0].speed_error_runs, 1);  // the stalled run's speed error is not a completed run's
 }
 
 TEST(CompareVariantsTest, AVariantMainForSomeMembersOnlyIsMixed) {

@@ -35,6 +35,18 @@ TEST(GaitMeterTest, MeasuresStepsFromContactSensors) {
   EXPECT_EQ(meter.steps().size(), 2u);
 }
 
+TEST(GaitMeterTest, AStepBackwardHasANegativeLengthAndVelocity) {
+  // Leg 2 starts 0.3 m ahead, lifts and lands 0.41 m behind leg 1: L_step = x_landing - x_other.
+  GaitMeter meter;
+  const double kTolerance = 1e-12;
+  meter.Update(At(0.0, true, true, 0.0, 0.3));
+  meter.Update(At(0.1, true, false, 0.0, 0.3));
+  ASSERT_TRUE(meter.Update(At(0.6, true, true, 0.0, -0.41)));
+  EXPECT_NEAR(meter.last_step().l_step, -0.41, kTolerance);
+  EXPECT_NEAR(meter.last_step().t_step, 0.5, kTolerance);
+  EXPECT_NEAR(meter.last_step().v_m, -0.82, kTolerance);
+}
+
 TEST(GaitMeterTest, FootInTheAirAtTheStartLandsWithoutAStepTime) {
   GaitMeter meter;
   meter.Update(At(0.0, true, false, 0.0, -0.3));  // leg 2 already in the air: take-off unseen

@@ -330,5 +330,104 @@ TEST(CriteriaTest, StepsSpreadOutcomeAndObstacles) {
   EXPECT_NE(r.failures[2].find("1 steps beyond"), std::string::npos);
 }
 
+TEST(CriteriaTest, VelocityIntegralIsExactForEveryProfileKind) {
+  const double kTolerance = 1e-12;
+  VelocityProfile constant;
+  constant.points = {{0.0, 0.6}};
+  EXPECT_NEAR(VelocityIntegral(constant, 30.0), 18.0, kTolerance);
+  VelocityProfile steps;
+  steps.kind = VelocityProfile::Kind::kSteps;
+  steps.points = {{0.0, 0.4}, {8.0, 0.5}, {16.0, 0.6}};
+  // 8 s at 0.4, 8 s at 0.5, 4 s at 0.6.
+  EXPECT_NEAR(VelocityIntegral(steps, 20.0), 3.2 + 4.0 + 2.4, kTolerance);
+  VelocityProfile ramp;
+  ramp.kind = VelocityProfile::Kind::kRamp;
+  ramp.points = {{2.0, 0.4}, {6.0, 0.8}};
+  // 2 s at 0.4, the trapezoid 4 s x 0.6 m/s mean, then 4 s at 0.8; cut at 8 s: 2 s of the last.
+  EXPECT_NEAR(VelocityIntegral(ramp, 8.0), 0.8 + 2.4 + 1.6, kTolerance);
+  EXPECT_NEAR(VelocityIntegral(ramp, 4.0), 0.8 + 0.5 * (0.4 + 0.6) * 2.0, kTolerance);
+  EXPECT_EQ(VelocityIntegral(ramp, 0.0), 0.0);
+}
+
+TEST(CriteriaTest, AWalkerMustTravelForwardMostOfWhatVdAsks) {
+  Scenario s;
+  s.controller = ControllerKind::kFuzzyCmac;
+  s.has_velocity = true;
+  s.velocity.points = {{0.0, 0.6}};  // 6 m in 10 s; the default asks for 70 %: 4.2 m
+  ASSERT_DOUBLE_EQ(s.criteria.min_travel_ratio, 0.7);
+  RunOutput forward;
+  forward.sim.t_end = 10.0;
+  forward.metrics.distance = 4.3;
+  EvaluateCriteria(s, &forward);
+  EXPECT_TRUE(forward.passed) << (forward.failures.empty() ? "" : forward.failures[0]);
+  RunOutput slow = forward;
+  slow.metrics.distance = 4.1;
+  EvaluateCriteria(s, &slow);
+  EXPECT_FALSE(slow.passed);
+  // Walking backward: long steps recorded as negative, the hip 1.5 m behind its start.
+  RunOutput backward = HandRun({{0.6, -0.8}, {0.6, -0.8}, {0.6, -0.8}});
+  for (StepRow& row : backward.steps) row.step.l_step = -0.4;
+  backward.sim.t_end = 10.0;
+  backward.metrics.distance = -1.5;
+  EvaluateCriteria(s, &backward);
+  EXPECT_FALSE(backward.passed);
+  ASSERT_EQ(backward.failures.size(), 1u);
+  EXPECT_NE(backward.failures[0].find("hip travelled -1.50 m forward"), std::string::npos)
+      << backward.failures[0];
+  EXPECT_NE(backward.failures[0].find("min_travel_ratio"), std::string::npos);
+  // A scenario may ask for another share, or none; a standing controller is not checked.
+  s.criteria.min_travel_ratio = 0.0;
+  RunOutput unchecked = backward;
+  unchecked.failures.clear();
+  EvaluateCriteria(s, &unchecked);
+  EXPECT_TRUE(unchecked.passed);
+  s.criteria.min_travel_ratio = 0.7;
+  s.controller = ControllerKind::kPdHold;
+  RunOutput standing = backward;
+  standing.failures.clear();
+  EvaluateCriteria(s, &standing);
+  EXPECT_TRUE(standing.passed);
+}
+
+TEST(CriteriaTest, AWalkSlowerThanVdFailsTheTravelCriterion) {
+  // The pragmatic rules of the 0.6 m/s gait: asked for V_d = 0.6 m/s they travel more than 70 % of
+  // it; asked for 2.5 m/s (25 m in 10 s), the same walk fails the travel criterion.
+  Scenario s = LoadScenario(kRoot + "/scenarios/walk_pragmatic_0.60.toml");
+  s.options.duration = 10.0;
+  s.has_velocity = true;
+  s.velocity.points = {{0.0, 0.6}};
+  RunOutput walks = RunScenario(s, "pragmatic", nullptr);
+  EXPECT_EQ(walks.sim.outcome, Outcome::kCompleted);
+  EXPECT_GT(walks.metrics.distance, 0.7 * 6.0);
+  EXPECT_TRUE(walks.passed) << (walks.failures.empty() ? "" : walks.failures[0]);
+  s.velocity.points = {{0.0, 2.5}};
+  RunOutput slow = RunScenario(s, "pragmatic", nullptr);
+  EXPECT_FALSE(slow.passed);
+  ASSERT_FALSE(slow.failures.empty());
+  EXPECT_NE(slow.failures.back().find("min_travel_ratio"), std::string::npos);
+}
+
+TEST(CriteriaTest, AWalkerFrozenAfterAStepBackwardIsStalled) {
+  // The paper suite's obstacle_anywhere-000: after a long step past the obstacle the walker's next
+  // step lands behind the stance foot (a negative L_step and V_M), and then the robot stands in a
+  // split stance. The stall watch ends the run there, 2 s after its last touchdown.
+  const Suite suite = LoadSuite(kRoot + "/scenarios/paper.toml");
+  const std::vector<BatchJob> jobs = PlanBatch(suite, "^obstacle_anywhere-000$");
+  ASSERT_EQ(jobs.size(), 1u);
+  GaitLibraryCache libraries;
+  const Scenario& s = *jobs[0].scenario;
+  const RunOutput r = RunScenario(s, jobs[0].variant, libraries.Get(s.pattern).get());
+  EXPECT_EQ(r.sim.outcome, Outcome::kStalled) << r.sim.reason;
+  EXPECT_NE(r.sim.reason.find("no touchdown"), std::string::npos) << r.sim.reason;
+  EXPECT_LT(r.sim.t_end, s.options.duration);
+  ASSERT_FALSE(r.steps.empty());
+  const StepRow& last = r.steps.back();
+  EXPECT_LT(last.step.l_step, 0.0);
+  EXPECT_LT(last.step.v_m, 0.0);
+  EXPECT_NEAR(last.step.v_m, last.step.l_step / last.step.t_step, 1e-12);
+  EXPECT_NEAR(r.sim.t_end - last.step.t_touchdown, 2.0, 0.01);
+  EXPECT_FALSE(r.passed);
+}
+
 }  // namespace
 }  // namespace rabbit

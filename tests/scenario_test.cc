@@ -57,6 +57,38 @@ duration = 1.0
 y = 0.9
 )";
 
+TEST_F(ScenarioFileTest, EveryDocumentedCriterionIsAKey) {
+  // docs/outcomes.md's criteria table: every key it lists is read from [criteria] (a key the
+  // reader does not know is an error), and the reader knows no key it leaves out.
+  std::ifstream in(std::string(RABBIT_SOURCE_DIR) + "/docs/outcomes.md");
+  std::string line, table;
+  bool inside = false;
+  int keys = 0;
+  while (std::getline(in, line)) {
+    if (line.rfind("## ", 0) == 0) inside = line == "## Criteria";
+    if (!inside || line.rfind("| `", 0) != 0) continue;
+    const std::string key = line.substr(3, line.find('`', 3) - 3);
+    const std::string value = key == "allow_obstacle_contact"          ? "false"
+                              : key.find("steps") != std::string::npos ? "3"
+                                                                       : "0.5";
+    table += key + " = " + value + "\n";
+    ++keys;
+  }
+  EXPECT_EQ(keys, 14);  // PassCriteria's fields (the stall watch's three)
+  const Scenario s =
+      LoadScenario(Write("criteria.toml", std::string(kMinimal) + "[criteria]\n" + table));
+  EXPECT_EQ(s.criteria.min_travel_ratio, 0.5);
+  EXPECT_EQ(s.criteria.stall.no_touchdown, 0.5);
+  EXPECT_EQ(s.criteria.stall.window, 0.5);
+  EXPECT_EQ(s.criteria.stall.min_advance, 0.5);
+  ExpectError(std::string(kMinimal) + "[criteria]\nmin_travel_ratio = -0.1\n", 7,
+              "criteria.min_travel_ratio", "must be >= 0");
+  ExpectError(std::string(kMinimal) + "[criteria]\nstall_window_s = inf\n", 7,
+              "criteria.stall_window_s", "finite");
+  ExpectError("expect_outcome = \"crashed\"\n" + std::string(kMinimal), 1, "expect_outcome",
+              "\"stalled\"");
+}
+
 TEST_F(ScenarioFileTest, ShippedScenariosLoad) {
   int count = 0;
   for (const auto& entry : fs::directory_iterator(fs::path(RABBIT_SOURCE_DIR) / "scenarios")) {

@@ -8,12 +8,50 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <set>
+#include <string>
 #include <thread>
 
 #include "rabbit/control/basic_controllers.h"
 
 namespace rabbit {
 namespace {
+
+// The first cells (`name`) of the table rows under the heading `heading` of a Markdown file, up to
+// the next heading of the same level.
+std::vector<std::string> DocumentedNames(const std::string& path, const std::string& heading) {
+  std::ifstream in(path);
+  std::vector<std::string> names;
+  std::string line;
+  bool inside = false;
+  while (std::getline(in, line)) {
+    if (line.rfind("## ", 0) == 0) {
+      inside = line == heading;
+      continue;
+    }
+    if (!inside || line.rfind("| `", 0) != 0) continue;
+    const size_t end = line.find('`', 3);
+    if (end != std::string::npos) names.push_back(line.substr(3, end - 3));
+  }
+  return names;
+}
+
+TEST(OutcomeTest, TheVocabularyIsTheDocumentedOne) {
+  const std::string doc = std::string(RABBIT_SOURCE_DIR) + "/docs/outcomes.md";
+  const std::vector<std::string> documented = DocumentedNames(doc, "## Outcomes");
+  std::vector<std::string> names;
+  for (Outcome o : kAllOutcomes) names.push_back(OutcomeName(o));
+  EXPECT_EQ(documented, names) << doc;
+  EXPECT_EQ(std::set<std::string>(names.begin(), names.end()).size(), names.size());
+  for (Outcome o : kAllOutcomes) {
+    Outcome parsed = Outcome::kCompleted;
+    ASSERT_TRUE(ParseOutcome(OutcomeName(o), &parsed));
+    EXPECT_EQ(parsed, o);
+  }
+  Outcome unused;
+  EXPECT_FALSE(ParseOutcome("crashed", &unused));
+}
 
 constexpr double kDeg = M_PI / 180.0;
 

@@ -334,6 +334,27 @@ TEST_F(SuiteTest, RobustnessTrainingSuiteMatchesTheHeldOutOne) {
   }
 }
 
+TEST_F(SuiteTest, RobustnessSuitesKeepTheDefaultTravelAndStallCriteria) {
+  // The held-out and training suites measure success with the documented defaults: none of their
+  // walking scenarios may ask for less forward travel or a looser stall watch.
+  const PassCriteria defaults;
+  for (const char* file : {"/scenarios/robustness.toml", "/scenarios/robustness_train.toml"}) {
+    const Suite suite = LoadSuite(kRoot + file);
+    ASSERT_FALSE(suite.scenarios.empty());
+    for (const Scenario& s : suite.scenarios) {
+      ASSERT_EQ(s.controller, ControllerKind::kFuzzyCmac) << s.name;
+      EXPECT_EQ(s.criteria.min_travel_ratio, defaults.min_travel_ratio) << file << " " << s.name;
+      EXPECT_EQ(s.criteria.stall.no_touchdown, defaults.stall.no_touchdown) << s.name;
+      EXPECT_EQ(s.criteria.stall.window, defaults.stall.window) << s.name;
+      EXPECT_EQ(s.criteria.stall.min_advance, defaults.stall.min_advance) << s.name;
+    }
+  }
+  EXPECT_EQ(defaults.min_travel_ratio, 0.7);
+  EXPECT_EQ(defaults.stall.no_touchdown, 2.0);
+  EXPECT_EQ(defaults.stall.window, 3.0);
+  EXPECT_EQ(defaults.stall.min_advance, 0.1);
+}
+
 TEST_F(SuiteTest, FamilyErrors) {
   const std::string head = Walker("[[family]]\nname = \"f\"\ncount = 2\n[family.vary]\n");
   ExpectError(head + "\"terrain.slope\" = [0, 1]\n", 16, "family[1].vary.terrain.slope",

@@ -212,7 +212,9 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
 StepPlan FuzzyCmacWalker::PlanNextStep(const Observation& obs, const StepRecord& step,
                                        double front, double d_obs) {
   const StepPlannerParams& pp = p_.planner;
-  if (planner_target_ >= 0.0 && step.t_step > 0.0) {
+  // A step that landed behind (a backward step after a push) was no attempt at the plan: it
+  // does not feed the bias.
+  if (planner_target_ >= 0.0 && step.t_step > 0.0 && step.l_step > 0.0) {
     planner_bias_ = std::clamp(planner_bias_ + pp.feedback_gain * (step.l_step - planner_target_),
                                -pp.bias_max, pp.bias_max);
   }
@@ -267,8 +269,14 @@ void FuzzyCmacWalker::SetContext(double v_m, double d_obs) {
 void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   const StepRecord& step = meter_.last_step();
   const double v_d = velocity_.At(obs.t);
-  // V_M is measured only when the leg's take-off was seen (not the first landing).
-  if (step.t_step > 0.0) {
+  // V_M is measured only when the leg's take-off was seen (not the first landing). The gait
+  // meter's L_step and V_M are signed: a step that lands behind the stance foot (the push
+  // recovery's backward step) has a negative V_M. Such a step is a recovery step, not a step of
+  // the gait: it is recorded, but the velocity control and the FIS keep the V_M and q0_d they had
+  // (clamping its V_M at 0 instead reads it as a standstill, and the velocity control then leans
+  // the trunk forward by several degrees per backward step, into a fall).
+  const bool measured = step.t_step > 0.0 && step.l_step > 0.0;
+  if (measured) {
     measured_.push_back(
         std::max(0.0, step.v_m + (p_.v_m_noise > 0.0 ? p_.v_m_noise * Gaussian() : 0.0)));
     const size_t n = std::min(measured_.size(), static_cast<size_t>(p_.v_m_average_steps));
@@ -276,7 +284,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     for (size_t i = measured_.size() - n; i < measured_.size(); ++i) sum += measured_[i];
     v_m_ = sum / static_cast<double>(n);
   }
-  if (step.t_step > 0.0 && !warming_up_) {
+  if (measured && !warming_up_) {
     const double error = v_d - v_m_;
     double dq0 = p_.k_p * error;
     if (have_error_) dq0 += p_.k_v * (error - last_error_) / step.t_step;

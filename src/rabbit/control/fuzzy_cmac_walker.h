@@ -10,9 +10,10 @@
 //                  divided by t_step), clamped to [q0_d_min, q0_d_max];
 //   PD             swing hip and knee track the gait pattern (eqs. 21-22), stance knee locked at 0
 //                  (eq. 23), stance hip holds the trunk at q0_d (eq. 24).
-// Perception: V_M is the gait meter's last complete step (eq. 1); d_obs the horizontal distance
-// from the front (new stance) foot to the near edge of the next obstacle ahead, saturated at
-// d_obs_max. Both may carry Gaussian noise from a seeded generator (deterministic for a seed).
+// Perception: V_M is the gait meter's last complete step (eq. 1; signed: a step that lands behind
+// the stance foot, a recovery step, leaves V_M and q0_d as they were, see OnTouchdown); d_obs the
+// horizontal distance from the front (new stance) foot to the near edge of the next obstacle
+// ahead, saturated at d_obs_max. Both may carry Gaussian noise from a seeded generator (deterministic for a seed).
 //
 // Support exchange: when the swing foot lands (after at least the gait meter's min_air_time in the
 // air) ahead of the stance foot, legs swap roles. A swing foot that scuffs the ground behind the

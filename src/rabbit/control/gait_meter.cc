@@ -1,7 +1,5 @@
 #include "rabbit/control/gait_meter.h"
 
-#include <cmath>
-
 namespace rabbit {
 
 bool GaitMeter::Update(const Observation& obs) {
@@ -24,7 +22,7 @@ bool GaitMeter::Update(const Observation& obs) {
       step.leg = leg;
       step.t_touchdown = obs.t;
       step.x = obs.foot_pos[leg].x();
-      step.l_step = std::abs(obs.foot_pos[leg].x() - obs.foot_pos[1 - leg].x());
+      step.l_step = obs.foot_pos[leg].x() - obs.foot_pos[1 - leg].x();  // < 0: landed behind
       step.t_step = takeoff_[leg] >= 0.0 ? obs.t - takeoff_[leg] : 0.0;
       step.v_m = step.t_step > 0.0 ? step.l_step / step.t_step : 0.0;
       steps_.push_back(step);

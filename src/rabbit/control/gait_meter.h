@@ -1,6 +1,7 @@
-// Gait measurement from the binary contact sensors (docs/design.md): touchdown and take-off
-// of each foot, and per step L_step (horizontal distance between the feet at touchdown), t_step
-// (take-off to landing of the same leg) and V_M = L_step / t_step (chapter eq. 1).
+// Gait measurement from the binary contact sensors: touchdown and take-off of each foot, and per
+// step L_step (horizontal distance between the feet at touchdown, signed: the landing foot's x
+// minus the other foot's, negative when it lands behind the other), t_step (take-off to landing
+// of the same leg) and V_M = L_step / t_step (chapter eq. 1; negative for a step backward).
 #ifndef RABBIT_CONTROL_GAIT_METER_H_
 #define RABBIT_CONTROL_GAIT_METER_H_
 
@@ -15,9 +16,9 @@ struct StepRecord {
   int index = 0;           // 0, 1, 2, ... in time order
   int leg = 0;             // the leg that landed
   double t_touchdown = 0;  // s
-  double l_step = 0;       // m
+  double l_step = 0;       // m, signed: < 0 when the foot landed behind the other
   double t_step = 0;       // s (0 when that leg's take-off was not seen)
-  double v_m = 0;          // m/s (0 when t_step is 0)
+  double v_m = 0;          // m/s, signed as l_step (0 when t_step is 0)
   double x = 0;            // m, where the landing foot touched down
 };
 

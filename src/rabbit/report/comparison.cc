@@ -121,6 +121,8 @@ std::vector<VariantComparison> CompareVariants(const std::vector<SummaryRow>& ro
       ++c.fell;
     } else if (r.outcome == "tripped") {
       ++c.tripped;
+    } else if (r.outcome == "stalled") {
+      ++c.stalled;
     } else if (r.outcome == "diverged") {
       ++c.diverged;
     } else if (r.outcome == "timeout") {
@@ -172,7 +174,7 @@ std::vector<VariantComparison> CompareVariants(const std::vector<SummaryRow>& ro
 
 std::string ComparisonHeader() {
   return "suite,group,group_kind,members,variant,controller,role,runs,passed,success_rate,ci_low,"
-         "ci_high,completed,fell,tripped,diverged,timeout,other_outcome,speed_error_runs,"
+         "ci_high,completed,fell,tripped,stalled,diverged,timeout,other_outcome,speed_error_runs,"
          "speed_error_mean_m_s,speed_error_median_m_s,cot_runs,cot_mean,cot_median,"
          "pattern_memory_bytes,target_success_rate,target_gap";
 }
@@ -187,12 +189,13 @@ std::string ComparisonCsv(const std::vector<VariantComparison>& rows) {
            FormatCsvNumber(c.success_rate) + ',' + FormatCsvNumber(c.ci.low) + ',' +
            FormatCsvNumber(c.ci.high) + ',' + std::to_string(c.completed) + ',' +
            std::to_string(c.fell) + ',' + std::to_string(c.tripped) + ',' +
-           std::to_string(c.diverged) + ',' + std::to_string(c.timeout) + ',' +
-           std::to_string(c.other_outcome) + ',' + std::to_string(c.speed_error_runs) + ',' +
-           FormatCsvNumber(c.speed_error_mean) + ',' + FormatCsvNumber(c.speed_error_median) + ',' +
-           std::to_string(c.cot_runs) + ',' + FormatCsvNumber(c.cot_mean) + ',' +
-           FormatCsvNumber(c.cot_median) + ',' + FormatCsvNumber(c.pattern_memory_bytes) + ',' +
-           FormatCsvNumber(c.target) + ',' + FormatCsvNumber(c.target_gap) + '\n';
+           std::to_string(c.stalled) + ',' + std::to_string(c.diverged) + ',' +
+           std::to_string(c.timeout) + ',' + std::to_string(c.other_outcome) + ',' +
+           std::to_string(c.speed_error_runs) + ',' + FormatCsvNumber(c.speed_error_mean) + ',' +
+           FormatCsvNumber(c.speed_error_median) + ',' + std::to_string(c.cot_runs) + ',' +
+           FormatCsvNumber(c.cot_mean) + ',' + FormatCsvNumber(c.cot_median) + ',' +
+           FormatCsvNumber(c.pattern_memory_bytes) + ',' + FormatCsvNumber(c.target) + ',' +
+           FormatCsvNumber(c.target_gap) + '\n';
   }
   return out;
 }

@@ -12,7 +12,7 @@
 //   runs, passed                  the variant's runs in the group and those that passed their
 //                                 criteria
 //   success_rate, ci_low, ci_high passed / runs and its 95% Wilson score interval (below)
-//   completed, fell, tripped, diverged, timeout, other_outcome   runs per outcome
+//   completed, fell, tripped, stalled, diverged, timeout, other_outcome   runs per outcome
 //   speed_error_runs              completed runs with a measured speed error ...
 //   speed_error_mean_m_s          ... the mean and the median over them of summary.csv's
 //   speed_error_median_m_s        mean_abs_speed_error_m_s (|V_M - V_d| averaged over a run's
@@ -66,7 +66,8 @@ struct VariantComparison {
   int runs = 0, passed = 0;
   double success_rate = std::numeric_limits<double>::quiet_NaN();
   ProportionInterval ci;
-  int completed = 0, fell = 0, tripped = 0, diverged = 0, timeout = 0, other_outcome = 0;
+  int completed = 0, fell = 0, tripped = 0, stalled = 0, diverged = 0, timeout = 0,
+      other_outcome = 0;
   int speed_error_runs = 0;
   double speed_error_mean = std::numeric_limits<double>::quiet_NaN();
   double speed_error_median = std::numeric_limits<double>::quiet_NaN();

@@ -296,14 +296,7 @@ RunBrief ReadRunMarker(const std::string& path) {
   RunBrief brief;
   brief.run = text("run");
   const std::string outcome = text("outcome");
-  bool known = false;
-  for (Outcome o : {Outcome::kCompleted, Outcome::kFell, Outcome::kTripped, Outcome::kDiverged,
-                    Outcome::kTimedOut}) {
-    if (outcome == OutcomeName(o)) {
-      brief.outcome = o;
-      known = true;
-    }
-  }
+  const bool known = ParseOutcome(outcome, &brief.outcome);
   if (!known) throw InputError(path, 2, "outcome", "unknown outcome \"" + outcome + "\"");
   brief.passed = table.Integer(0, table.Column("passed")) != 0;
   // The row is the one this program wrote: its text, not a re-rendering, goes into summary.csv.

@@ -402,6 +402,7 @@ std::string ComparisonTable(const std::vector<const VariantComparison*>& variant
     for (const auto& [count, name] : {std::pair<int, const char*>{c->completed, "completed"},
                                       {c->fell, "fell"},
                                       {c->tripped, "tripped"},
+                                      {c->stalled, "stalled"},
                                       {c->diverged, "diverged"},
                                       {c->timeout, "timeout"},
                                       {c->other_outcome, "other"}}) {

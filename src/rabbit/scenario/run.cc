@@ -15,6 +15,7 @@
 #include "rabbit/io/error.h"
 #include "rabbit/learn/fll.h"
 #include "rabbit/learn/gait_pattern.h"
+#include "rabbit/scenario/stall_watch.h"
 
 namespace rabbit {
 namespace {
@@ -50,6 +51,21 @@ std::string FiringRules(const TsFis& fis, const std::vector<double>& activation)
 }
 
 bool Measured(const StepRow& s) { return s.step.t_step > 0.0; }
+
+// A walking controller (the pragmatic rules or the walker, and every variant of such a scenario):
+// the stall watch and the travel criterion apply to it. Standing (passive, pd_hold) is not walking.
+bool Walking(const Scenario& s) {
+  return s.controller == ControllerKind::kPragmatic || s.controller == ControllerKind::kFuzzyCmac;
+}
+
+// Simulates the scenario with `controller`, under the stall watch when the scenario walks.
+SimResult SimulateRun(const Scenario& scenario, const SimSetup& setup, Controller* controller) {
+  if (!Walking(scenario) || !scenario.criteria.stall.enabled()) {
+    return Simulate(setup, scenario.q0, scenario.qd0, controller);
+  }
+  StallWatch watch(controller, scenario.criteria.stall);
+  return Simulate(setup, scenario.q0, scenario.qd0, &watch);
+}
 
 // Exact text of the numbers that decide a multi-input CMAC pattern: the fuzzy system (sets,
 // rules, output values), the domain and the options (hexadecimal floats: no two settings share a
@@ -253,7 +269,7 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     }
     pattern_memory = pattern->MemoryBytes();
     FuzzyCmacWalker controller(params, std::move(pattern), scenario.velocity, 0);
-    out.sim = Simulate(setup, scenario.q0, scenario.qd0, &controller);
+    out.sim = SimulateRun(scenario, setup, &controller);
     // A pattern without per-gait weights (multi_cmac) reports NaN weights, so that steps.csv has
     // the columns of the other variants.
     const std::vector<double> no_weights(library->gait_names.size(),
@@ -268,7 +284,7 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     // The pragmatic rules of the start gait (for a walker scenario) or of the scenario's gait.
     const PragmaticParams& rules = scenario.walking.rules;
     PragmaticController controller(rules, 0);
-    out.sim = Simulate(setup, scenario.q0, scenario.qd0, &controller);
+    out.sim = SimulateRun(scenario, setup, &controller);
     std::vector<double> weights;
     if (library != nullptr) {
       for (const std::string& name : library->gait_names) {
@@ -284,7 +300,7 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     }
   } else {
     std::unique_ptr<Controller> controller = MakeController(scenario);
-    out.sim = Simulate(setup, scenario.q0, scenario.qd0, controller.get());
+    out.sim = SimulateRun(scenario, setup, controller.get());
   }
   out.metrics = ComputeMetrics(scenario, model, out.sim, out.steps);
   out.metrics.pattern_memory_bytes = pattern_memory;
@@ -336,6 +352,23 @@ RunMetrics ComputeMetrics(const Scenario& scenario, const Model& model, const Si
   }
   m.l_step_spread = hi - lo;
   return m;
+}
+
+double VelocityIntegral(const VelocityProfile& velocity, double t_end) {
+  if (!(t_end > 0.0)) return 0.0;
+  // V_d is linear (ramp) or constant (steps, constant) between consecutive breakpoints, where the
+  // midpoint rule is exact.
+  std::vector<double> breaks = {0.0};
+  for (const auto& point : velocity.points) {
+    if (point.first > 0.0 && point.first < t_end) breaks.push_back(point.first);
+  }
+  breaks.push_back(t_end);
+  double sum = 0.0;
+  for (size_t i = 1; i < breaks.size(); ++i) {
+    const double a = breaks[i - 1], b = breaks[i];
+    if (b > a) sum += velocity.At(0.5 * (a + b)) * (b - a);
+  }
+  return sum;
 }
 
 void EvaluateCriteria(const Scenario& scenario, RunOutput* run) {
@@ -431,6 +464,19 @@ void EvaluateCriteria(const Scenario& scenario, RunOutput* run) {
                     "stride V_M off V_d by more than %.3f m/s at %d of %d settled steps (worst "
                     "%.3f m/s at t = %.2f s)",
                     c.speed_tolerance, off, checked, worst, worst_t);
+      fail.push_back(text);
+    }
+  }
+  if (Walking(scenario) && scenario.has_velocity && c.min_travel_ratio > 0.0) {
+    const double wanted = VelocityIntegral(scenario.velocity, run->sim.t_end);
+    if (!(run->metrics.distance >= c.min_travel_ratio * wanted)) {
+      std::snprintf(
+          text, sizeof text,
+          "hip travelled %.2f m forward in %.2f s, %.1f %% of the %.2f m of V_d (at least "
+          "%.0f %%: min_travel_ratio)",
+          run->metrics.distance, run->sim.t_end,
+          wanted > 0.0 ? 100.0 * run->metrics.distance / wanted : 0.0, wanted,
+          100.0 * c.min_travel_ratio);
       fail.push_back(text);
     }
   }

@@ -138,7 +138,12 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
 // Metrics and criteria of a finished run (deterministic functions of the run's records).
 RunMetrics ComputeMetrics(const Scenario& scenario, const Model& model, const SimResult& sim,
                           const std::vector<StepRow>& steps);
+// Every criterion of docs/outcomes.md: the expected outcome, the scenario's [criteria] and, for a
+// walking scenario with a V_d profile, the forward travel (min_travel_ratio of VelocityIntegral
+// over the run's simulated time).
 void EvaluateCriteria(const Scenario& scenario, RunOutput* run);
+// The integral of V_d from 0 to t_end (m; 0 for t_end <= 0).
+double VelocityIntegral(const VelocityProfile& velocity, double t_end);
 
 }  // namespace rabbit
 

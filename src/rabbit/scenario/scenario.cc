@@ -402,12 +402,20 @@ PassCriteria ReadCriteria(TomlReader t) {
   c.min_steps_after_obstacles = static_cast<int>(
       t.Integer("min_steps_after_obstacles", c.min_steps_after_obstacles, 0, kMaxSteps));
   c.allow_obstacle_contact = t.Bool("allow_obstacle_contact", c.allow_obstacle_contact);
+  c.min_travel_ratio = t.Double("min_travel_ratio", c.min_travel_ratio);
+  c.stall.no_touchdown = t.Double("stall_no_touchdown_s", c.stall.no_touchdown);
+  c.stall.window = t.Double("stall_window_s", c.stall.window);
+  c.stall.min_advance = t.Double("stall_min_advance_m", c.stall.min_advance);
   t.Finish();
   for (const auto& [key, value] : {std::pair<const char*, double>{"min_distance_m", c.min_distance},
                                    {"max_l_step_spread_m", c.max_l_step_spread},
                                    {"min_l_step_m", c.min_l_step},
                                    {"speed_tolerance_m_s", c.speed_tolerance},
-                                   {"track_up_to_m_s", c.track_up_to}}) {
+                                   {"track_up_to_m_s", c.track_up_to},
+                                   {"min_travel_ratio", c.min_travel_ratio},
+                                   {"stall_no_touchdown_s", c.stall.no_touchdown},
+                                   {"stall_window_s", c.stall.window},
+                                   {"stall_min_advance_m", c.stall.min_advance}}) {
     if (value < 0.0) t.Fail(key, "must be >= 0");
   }
   return c;
@@ -807,11 +815,13 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name, const Pa
   }
   s.description = root.String("description", "");
   s.expected_outcome = root.String("expect_outcome", "");
-  if (!s.expected_outcome.empty() && s.expected_outcome != "completed" &&
-      s.expected_outcome != "fell" && s.expected_outcome != "tripped" &&
-      s.expected_outcome != "diverged" && s.expected_outcome != "timeout") {
-    root.Fail("expect_outcome",
-              "expected \"completed\", \"fell\", \"tripped\", \"diverged\" or \"timeout\"");
+  Outcome expected;
+  if (!s.expected_outcome.empty() && !ParseOutcome(s.expected_outcome, &expected)) {
+    std::string names;
+    for (Outcome o : kAllOutcomes) {
+      names += std::string(names.empty() ? "" : ", ") + "\"" + OutcomeName(o) + "\"";
+    }
+    root.Fail("expect_outcome", "expected one of " + names);
   }
   s.required = root.Bool("required", s.required);
   s.seed = static_cast<std::uint64_t>(root.Integer("seed", 1, 0, std::numeric_limits<long>::max()));

@@ -18,6 +18,7 @@
 #include "rabbit/gait/gait_walk.h"
 #include "rabbit/learn/multi_cmac_pattern.h"
 #include "rabbit/model/params.h"
+#include "rabbit/scenario/stall_watch.h"
 #include "rabbit/sim/simulator.h"
 
 namespace rabbit {
@@ -28,7 +29,8 @@ struct ParamOverlay;
 enum class ControllerKind { kPassive, kPdHold, kPragmatic, kFuzzyCmac };
 
 // What a scenario must show to pass (checked after the run by EvaluateCriteria in
-// rabbit/scenario/criteria.h). Unset criteria (0 or infinity) are not checked.
+// rabbit/scenario/run.h; docs/outcomes.md lists every key). Unset criteria (0 or infinity) are not
+// checked.
 struct PassCriteria {
   int min_steps = 0;          // steps taken without falling
   double min_distance = 0.0;  // m the hip travelled
@@ -47,6 +49,11 @@ struct PassCriteria {
   // foot ever landed on an obstacle's top unless allowed.
   int min_steps_after_obstacles = 0;
   bool allow_obstacle_contact = true;
+  // Walking scenarios (a pragmatic or fuzzy_cmac controller) with a V_d profile: the hip's forward
+  // travel must be at least this share of the integral of V_d over the run (0: unchecked).
+  double min_travel_ratio = 0.7;
+  // Walking scenarios: when the run ends as `stalled` (rabbit/scenario/stall_watch.h).
+  StallCriteria stall;
 };
 
 // The walker's gait pattern and reference gaits, as paths (resolved against the scenario file).

@@ -3,6 +3,7 @@
 #define RABBIT_SIM_CONTROLLER_H_
 
 #include <array>
+#include <string>
 
 #include "rabbit/contact/contact.h"
 #include "rabbit/contact/terrain.h"
@@ -26,6 +27,14 @@ class Controller {
   virtual ~Controller() = default;
   // Commanded joint torques [T_hip1, T_knee1, T_hip2, T_knee2] (before actuator saturation).
   virtual Vec4 Compute(const Observation& obs) = 0;
+  // Called once per control period, before Compute, with the same observation: true ends the run
+  // at this sample with the outcome `stalled` and `reason` (a watch around a walking controller,
+  // rabbit/scenario/stall_watch.h). A controller that does not watch for stalls never ends a run.
+  virtual bool CheckStall(const Observation& obs, std::string* reason) {
+    (void)obs;
+    (void)reason;
+    return false;
+  }
 };
 
 }  // namespace rabbit

@@ -18,12 +18,24 @@ const char* OutcomeName(Outcome outcome) {
       return "fell";
     case Outcome::kTripped:
       return "tripped";
+    case Outcome::kStalled:
+      return "stalled";
     case Outcome::kDiverged:
       return "diverged";
     case Outcome::kTimedOut:
       return "timeout";
   }
   return "?";
+}
+
+bool ParseOutcome(const std::string& name, Outcome* outcome) {
+  for (Outcome o : kAllOutcomes) {
+    if (name == OutcomeName(o)) {
+      *outcome = o;
+      return true;
+    }
+  }
+  return false;
 }
 
 bool SimOptions::IsValid(std::string* error) const {
@@ -329,6 +341,14 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
       obs.foot_contact[leg] = s.foot_force[leg].fn > 0.0;
     }
     alive = alive && CheckState(setup, s, ComputePose(model, s.q, sample_data), &result);
+    if (alive && controller != nullptr) {
+      std::string stall;
+      if (controller->CheckStall(obs, &stall)) {
+        result.outcome = Outcome::kStalled;
+        result.reason = Describe(stall.c_str(), s.t);
+        alive = false;
+      }
+    }
     if (alive && wall_limited && k > 0 && k % kWallCheckPeriods == 0) {
       const double wall =
           std::chrono::duration<double>(std::chrono::steady_clock::now() - wall_start).count();

@@ -50,8 +50,16 @@ struct SimOptions {
 // The clock is read once per this many control periods (0.1 s at 1 kHz): cheap next to them.
 constexpr long kWallCheckPeriods = 100;
 
-enum class Outcome { kCompleted, kFell, kTripped, kDiverged, kTimedOut };
+// How a run ended (docs/outcomes.md): completed (the whole duration, or stop_distance reached),
+// fell, tripped, stalled (the controller's stall watch ended it: Controller::CheckStall),
+// diverged (integrator failure, non-finite state, chattering contacts) or timeout (max_wall).
+enum class Outcome { kCompleted, kFell, kTripped, kStalled, kDiverged, kTimedOut };
+inline constexpr std::array<Outcome, 6> kAllOutcomes = {Outcome::kCompleted, Outcome::kFell,
+                                                        Outcome::kTripped,   Outcome::kStalled,
+                                                        Outcome::kDiverged,  Outcome::kTimedOut};
 const char* OutcomeName(Outcome outcome);
+// The outcome named `name` (as OutcomeName writes it); false for an unknown name.
+bool ParseOutcome(const std::string& name, Outcome* outcome);
 
 struct SimSample {
   double t = 0.0;
