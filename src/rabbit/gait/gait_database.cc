@@ -8,6 +8,7 @@
 #include <functional>
 #include <iomanip>
 #include <sstream>
+#include <tuple>
 
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/csv.h"
@@ -50,6 +51,27 @@ std::vector<std::pair<std::string, double>> NumericMetadata(const GaitRecord& g)
 
 }  // namespace
 
+const char* GaitRoleName(GaitRole role) { return role == GaitRole::kLibrary ? "library" : "speed"; }
+
+bool ParseGaitRole(const std::string& text, GaitRole* role) {
+  if (text == "speed") {
+    *role = GaitRole::kSpeed;
+  } else if (text == "library") {
+    *role = GaitRole::kLibrary;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+std::vector<GaitIndexEntry> GaitsOfRole(const std::vector<GaitIndexEntry>& index, GaitRole role) {
+  std::vector<GaitIndexEntry> out;
+  for (const GaitIndexEntry& e : index) {
+    if (e.role == role) out.push_back(e);
+  }
+  return out;
+}
+
 std::string ModelHash(const ModelParams& p) {
   std::ostringstream text;
   text << std::setprecision(17) << p.trunk_mass << ' ' << p.trunk_com << ' ' << p.trunk_inertia
@@ -78,6 +100,8 @@ void WriteGaitFile(const GaitRecord& g, const std::string& path) {
     out << "# model_hash = " << g.model_hash << "\n";
     out << "# generator = rabbit " << RABBIT_VERSION << "\n";
     out << "# source = " << g.source << "\n";
+    // Speed gaits (the default) carry no role line: their files are as before roles existed.
+    if (g.role != GaitRole::kSpeed) out << "# role = " << GaitRoleName(g.role) << "\n";
     for (size_t i = 0; i < std::size(kColumns); ++i) out << (i ? "," : "") << kColumns[i];
     out << "\n" << std::setprecision(12);
     for (const SwingSample& s : g.swing) {
@@ -175,6 +199,10 @@ GaitRecord ReadGaitFile(const std::string& path) {
   if (g.name.empty()) g.name = std::filesystem::path(path).stem().string();
   g.model_hash = text_of("model_hash");
   g.source = text_of("source");
+  if (meta.count("role") != 0 && !ParseGaitRole(meta["role"].first, &g.role)) {
+    throw InputError(path, meta["role"].second, "role",
+                     "unknown role \"" + meta["role"].first + "\" (speed or library)");
+  }
   g.target_v_m = number_of("target_v_m");
   g.target_l_step = number_of("target_l_step_m");
   g.measured.v_m = number_of("measured_v_m");
@@ -207,11 +235,13 @@ GaitRecord ReadGaitFile(const std::string& path) {
 
 void WriteGaitIndex(const std::vector<GaitIndexEntry>& entries, const std::string& path) {
   WriteFileAtomically(path, [&entries](std::ostream& out) {
-    out << "name,file,target_v_m,measured_v_m,l_step_m,t_step_s,steps,source\n";
+    out << "name,file,target_v_m,measured_v_m,l_step_m,t_step_s,steps,source,role,"
+           "target_l_step_m\n";
     out << std::setprecision(6);
     for (const GaitIndexEntry& e : entries) {
       out << e.name << ',' << e.file << ',' << e.target_v_m << ',' << e.measured_v_m << ','
-          << e.l_step << ',' << e.t_step << ',' << e.steps << ',' << e.source << "\n";
+          << e.l_step << ',' << e.t_step << ',' << e.steps << ',' << e.source << ','
+          << GaitRoleName(e.role) << ',' << e.target_l_step << "\n";
     }
   });
 }
@@ -226,7 +256,9 @@ std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
     ++number;
     if (number == 1 || Trim(line).empty()) continue;
     const std::vector<std::string> c = SplitCsv(line);
-    if (c.size() != 8) throw InputError(path, number, "", "expected 8 cells");
+    if (c.size() != 8 && c.size() != 10) {
+      throw InputError(path, number, "", "expected 10 cells (or the 8 of an index without roles)");
+    }
     GaitIndexEntry e;
     e.name = c[0];
     e.file = c[1];
@@ -238,6 +270,12 @@ std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
     if (!(steps >= 0.0 && steps <= 1e6)) throw InputError(path, number, "steps", "out of range");
     e.steps = static_cast<int>(steps);
     e.source = c[7];
+    if (c.size() == 10) {
+      if (!ParseGaitRole(c[8], &e.role)) {
+        throw InputError(path, number, "role", "unknown role \"" + c[8] + "\" (speed or library)");
+      }
+      e.target_l_step = ParseFiniteNumber(c[9], path, number, "target_l_step_m");
+    }
     entries.push_back(e);
   }
   return entries;
@@ -263,9 +301,11 @@ std::string AddGaitToDatabase(const GaitRecord& gait, const std::string& dir) {
                                [&](const GaitIndexEntry& e) { return e.name == gait.name; }),
                 entries.end());
   entries.push_back({gait.name, file, gait.source, gait.target_v_m, gait.measured.v_m,
-                     gait.measured.l_step, gait.measured.t_step, gait.measured.steps});
+                     gait.measured.l_step, gait.measured.t_step, gait.measured.steps, gait.role,
+                     gait.target_l_step});
   std::sort(entries.begin(), entries.end(), [](const GaitIndexEntry& a, const GaitIndexEntry& b) {
-    return a.target_v_m < b.target_v_m;
+    return std::make_tuple(a.role, a.target_v_m, a.target_l_step, a.name) <
+           std::make_tuple(b.role, b.target_v_m, b.target_l_step, b.name);
   });
   WriteGaitIndex(entries, index_path);
   return path;
