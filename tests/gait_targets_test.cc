@@ -5,8 +5,10 @@
 #include <gtest/gtest.h>
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <map>
 
 #include "rabbit/io/error.h"
 
@@ -78,15 +80,22 @@ TEST_F(GaitTargetsTest, TheShippedTargetsAreSpeedGaitsAndLibraryCells) {
   const std::vector<GaitTarget> t =
       ReadGaitTargets(std::string(RABBIT_SOURCE_DIR) + "/gaits/targets.toml");
   int speed = 0;
+  std::map<long, int> step_lengths;  // speed in cm/s -> step lengths there, the speed gait's too
   for (const GaitTarget& g : t) {
+    ++step_lengths[std::lround(100.0 * g.options.target_v_m)];
     if (g.role == GaitRole::kSpeed) {
       ++speed;
       EXPECT_EQ(g.name, DefaultGaitName(g.options.target_v_m, 0.0, GaitRole::kSpeed));
     } else {
       EXPECT_GT(g.options.target_l_step, 0.0) << g.name;
+      EXPECT_EQ(g.name,
+                DefaultGaitName(g.options.target_v_m, g.options.target_l_step, GaitRole::kLibrary));
     }
   }
   EXPECT_EQ(speed, 8);
+  int speeds_with_three = 0;
+  for (const auto& [v, n] : step_lengths) speeds_with_three += n >= 3 ? 1 : 0;
+  EXPECT_GE(speeds_with_three, 5);
 }
 
 TEST_F(GaitTargetsTest, BadInputNamesLineAndKey) {

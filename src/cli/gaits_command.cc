@@ -214,7 +214,7 @@ int RunGenerate(const GenerateArgs& a) {
   std::vector<std::thread> threads;
   for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
   for (std::thread& t : threads) t.join();
-  int failures = 0;
+  int failures = 0, written = 0;
   for (size_t i = 0; i < records.size(); ++i) {
     if (!errors[i].empty()) std::fprintf(stderr, "target %zu: %s\n", i + 1, errors[i].c_str());
     failures += ok[i] ? 0 : 1;
@@ -226,10 +226,11 @@ int RunGenerate(const GenerateArgs& a) {
     // A gait that misses the criteria never replaces a stored one, unless --force.
     if (records[i].swing.empty() || (!ok[i] && !a.force)) continue;
     AddGaitToDatabase(records[i], a.dir);
+    ++written;
   }
   if (!a.quiet) {
-    std::printf("generated %zu gaits in %s (%.1f s wall, %d jobs); %d missed the criteria\n",
-                records.size(), a.dir.c_str(),
+    std::printf("wrote %d of %zu gaits in %s (%.1f s wall, %d jobs); %d missed the criteria\n",
+                written, records.size(), a.dir.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
                 jobs, failures);
   }
