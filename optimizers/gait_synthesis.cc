@@ -4,11 +4,17 @@
 
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
+#include <map>
+#include <random>
+#include <thread>
 #include <vector>
+
+#include "rabbit/contact/actuator.h"
 
 namespace rabbit {
 namespace {
@@ -59,30 +65,89 @@ GaitSpec FromUnit(const double* x, GaitSpec spec, const Bounds& b) {
   return spec;
 }
 
+// One walk's value: what the objective computes for a point.
+struct Evaluation {
+  double cost = 0.0;
+  GaitMetrics metrics;
+};
+
 struct Search {
   const SimSetup* setup;
   const SynthesisOptions* options;
   const std::function<void(const SynthesisProgress&)>* progress;
   GaitSpec base;
   int evaluations = 0;
+  int walks = 0, walks_ahead = 0;
   double best_cost = std::numeric_limits<double>::infinity();
   GaitSpec best_spec;
   GaitMetrics best_metrics;
   const char* stage = "";
+  // Every point walked so far (unit coordinates, exactly): a point asked for again, or walked
+  // ahead on other threads, is not walked twice. Its value is the same either way.
+  std::map<std::vector<double>, Evaluation> known;
 };
 
+Evaluation Walk(const Search& s, const double* x) {
+  const GaitSpec spec = FromUnit(x, s.base, s.options->bounds);
+  const GaitRun run = WalkGait(*s.setup, spec, s.options->walk_duration, s.options->window);
+  return {GaitCost(run.metrics, *s.options), run.metrics};
+}
+
+// Walks the points on options.threads threads and keeps their values for the search; the values
+// are a function of the points alone, so the search's path does not depend on the threads.
+void WalkAhead(const std::vector<std::vector<double>>& points, Search* s) {
+  std::vector<std::vector<double>> todo;
+  for (const std::vector<double>& x : points) {
+    if (s->known.count(x) == 0) todo.push_back(x);
+  }
+  std::vector<Evaluation> values(todo.size());
+  std::atomic<size_t> next{0};
+  auto worker = [&] {
+    for (size_t i = next++; i < todo.size(); i = next++) values[i] = Walk(*s, todo[i].data());
+  };
+  const int threads = std::min<int>(s->options->threads, static_cast<int>(todo.size()));
+  std::vector<std::thread> pool;
+  for (int t = 1; t < threads; ++t) pool.emplace_back(worker);
+  worker();
+  for (std::thread& t : pool) t.join();
+  for (size_t i = 0; i < todo.size(); ++i) s->known.emplace(todo[i], values[i]);
+  s->walks += static_cast<int>(todo.size());
+  s->walks_ahead += static_cast<int>(todo.size());
+}
+
+// The random points NLopt's CRS2 draws for its initial population after the starting point: its
+// generator is the standard 32-bit Mersenne Twister seeded with nlopt_srand(seed), drawn in
+// 53-bit doubles (two words each), one per coordinate, on [0, 1]. Only a forecast: if NLopt draws
+// otherwise, the points are simply not asked for and the search walks its own.
+std::vector<std::vector<double>> CrsInitialPoints(unsigned seed, int count) {
+  std::mt19937 twister(seed);
+  std::vector<std::vector<double>> points(std::max(0, count), std::vector<double>(kDim));
+  for (std::vector<double>& x : points) {
+    for (double& u : x) {
+      const double a = static_cast<double>(twister() >> 5), b = static_cast<double>(twister() >> 6);
+      u = (a * 67108864.0 + b) * (1.0 / 9007199254740992.0);
+    }
+  }
+  return points;
+}
+constexpr int kCrsPopulation = 10 * (kDim + 1);  // NLopt's default for CRS2
+
 double Objective(unsigned n, const double* x, double* grad, void* data) {
-  (void)n;
   (void)grad;  // derivative-free algorithms only
   auto* s = static_cast<Search*>(data);
-  const GaitSpec spec = FromUnit(x, s->base, s->options->bounds);
-  const GaitRun run = WalkGait(*s->setup, spec, s->options->walk_duration, s->options->window);
-  const double cost = GaitCost(run.metrics, *s->options);
+  std::vector<double> key(x, x + n);
+  auto found = s->known.find(key);
+  if (found == s->known.end()) {
+    found = s->known.emplace(std::move(key), Walk(*s, x)).first;
+    ++s->walks;
+  }
+  const Evaluation& value = found->second;
+  const double cost = value.cost;
   ++s->evaluations;
   if (cost < s->best_cost) {
     s->best_cost = cost;
-    s->best_spec = spec;
-    s->best_metrics = run.metrics;
+    s->best_spec = FromUnit(x, s->base, s->options->bounds);
+    s->best_metrics = value.metrics;
   }
   if (*s->progress) {
     SynthesisProgress p;
@@ -162,8 +227,8 @@ bool SynthesisOptions::IsValid(std::string* error) const {
     *error = "target step length must be in [0, 1) m (0: none)";
     return false;
   }
-  if (budget < 1 || window < 2) {
-    *error = "need budget >= 1 and window >= 2";
+  if (budget < 1 || window < 2 || threads < 1 || threads > 1024) {
+    *error = "need budget >= 1, window >= 2 and 1 <= threads <= 1024";
     return false;
   }
   if (!(walk_duration > 0.5)) {
@@ -209,6 +274,87 @@ bool MeetsCriteria(const GaitMetrics& m, const SynthesisOptions& o) {
          (o.target_l_step <= 0.0 || std::abs(m.l_step - o.target_l_step) <= o.l_tolerance);
 }
 
+std::vector<std::string> DiagnoseMiss(const SimSetup& setup, const SynthesisOptions& o,
+                                      const SynthesisResult& best) {
+  std::vector<std::string> out;
+  char text[256];
+  const GaitMetrics& m = best.metrics;
+  // The criteria the best candidate misses, and by how much.
+  if (m.fell || m.steps < o.window + 2) {
+    std::snprintf(text, sizeof text,
+                  "no candidate walks %d steps: the best took %d steps and %s after %.2f s",
+                  o.window + 2, m.steps, m.fell ? "fell" : "stopped stepping", m.walked_time);
+    out.push_back(text);
+  } else {
+    if (std::abs(m.v_m - o.target_v_m) > o.v_tolerance) {
+      std::snprintf(text, sizeof text, "V_M %.3f m/s, %.3f %s the target %.3f (tolerance %.3f)",
+                    m.v_m, std::abs(m.v_m - o.target_v_m), m.v_m < o.target_v_m ? "below" : "above",
+                    o.target_v_m, o.v_tolerance);
+      out.push_back(text);
+    }
+    if (o.target_l_step > 0.0 && std::abs(m.l_step - o.target_l_step) > o.l_tolerance) {
+      std::snprintf(text, sizeof text, "L_step %.3f m, %.3f %s the target %.3f (tolerance %.3f)",
+                    m.l_step, std::abs(m.l_step - o.target_l_step),
+                    m.l_step < o.target_l_step ? "below" : "above", o.target_l_step, o.l_tolerance);
+      out.push_back(text);
+    }
+    if (m.l_step_spread > o.max_l_spread) {
+      std::snprintf(text, sizeof text,
+                    "L_step varies by %.4f m over the last %d steps (at most %.4f)",
+                    m.l_step_spread, o.window, o.max_l_spread);
+      out.push_back(text);
+    }
+  }
+  // The search bounds the best candidate lies on (within 1 % of the range).
+  GaitSpec spec = best.spec;
+  for (int i = 0; i < kDim; ++i) {
+    const double v = *kParams[i].field(&spec) / kParams[i].scale;
+    const auto [lo, hi] = o.bounds[i];
+    const double margin = 0.01 * (hi - lo);
+    if (v <= lo + margin || v >= hi - margin) {
+      const bool upper = v >= hi - margin;
+      std::snprintf(text, sizeof text, "%s at its %s bound %g in the best candidate",
+                    kParams[i].name, upper ? "upper" : "lower", upper ? hi : lo);
+      out.push_back(text);
+    }
+  }
+  // The actuator limits its walk runs into (share of the walk, per joint kind and limit).
+  SimSetup record = setup;
+  record.options.record_every = 1;
+  const GaitRun run = WalkGait(record, best.spec, o.walk_duration, o.window);
+  if (!run.sim.samples.empty()) {
+    const char* const joints[2] = {"hip", "knee"};  // joint j: hip (even) or knee (odd)
+    const char* const limits[4] = {"", "torque", "power", "speed"};
+    long counts[2][4] = {};
+    for (const SimSample& sample : run.sim.samples) {
+      for (int j = 0; j < kNumJoints; ++j) {
+        SaturationRegion region;
+        SaturateTorque(setup.actuator, sample.tau_cmd[j], sample.qd[3 + j], &region);
+        ++counts[j % 2][static_cast<int>(region)];
+      }
+    }
+    const double samples = 2.0 * static_cast<double>(run.sim.samples.size());  // per joint kind
+    for (int k = 0; k < 2; ++k) {
+      for (int r = 1; r < 4; ++r) {
+        const double share = counts[k][r] / samples;
+        if (share < 0.02) continue;  // occasional saturation is normal
+        std::snprintf(text, sizeof text, "motor %s limit on the %ss for %.0f %% of the walk",
+                      limits[r], joints[k], 100.0 * share);
+        out.push_back(text);
+      }
+    }
+  }
+  if (best.evaluations >= o.budget) {
+    std::snprintf(text, sizeof text, "budget exhausted (%d walks)", o.budget);
+  } else {
+    std::snprintf(text, sizeof text,
+                  "the search converged after %d of its %d walks (no better point nearby)",
+                  best.evaluations, o.budget);
+  }
+  out.push_back(text);
+  return out;
+}
+
 SynthesisResult SynthesizeGait(const SimSetup& setup, const SynthesisOptions& options,
                                const std::function<void(const SynthesisProgress&)>& progress) {
   const auto start = std::chrono::steady_clock::now();
@@ -226,7 +372,11 @@ SynthesisResult SynthesizeGait(const SimSetup& setup, const SynthesisOptions& op
   RunStage(local, "local", options.budget / 3, &x, &search);
   if (!MeetsCriteria(search.best_metrics, options)) {
     x = ToUnit(search.best_spec, options.bounds);
-    RunStage(NLOPT_GN_CRS2_LM, "global", options.budget / 2, &x, &search);
+    const int budget = options.budget / 2;
+    if (options.threads > 1) {
+      WalkAhead(CrsInitialPoints(options.seed, std::min(kCrsPopulation, budget) - 1), &search);
+    }
+    RunStage(NLOPT_GN_CRS2_LM, "global", budget, &x, &search);
   }
   if (!MeetsCriteria(search.best_metrics, options)) {
     x = ToUnit(search.best_spec, options.bounds);
@@ -237,7 +387,10 @@ SynthesisResult SynthesizeGait(const SimSetup& setup, const SynthesisOptions& op
   result.metrics = search.best_metrics;
   result.cost = search.best_cost;
   result.evaluations = search.evaluations;
+  result.walks = search.walks;
+  result.walks_ahead = search.walks_ahead;
   result.success = MeetsCriteria(search.best_metrics, options);
+  if (!result.success) result.limits = DiagnoseMiss(setup, options, result);
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

@@ -2,7 +2,9 @@
 // gait at a requested average velocity (and step length, when given). Derivative-free: a local
 // stage (SBPLX or BOBYQA) from the chapter's Table 2 values interpolated at the target velocity;
 // when that does not reach the criteria, a global stage (CRS2 with local mutation, seeded) and a
-// local polish of its best point. Deterministic for a seed.
+// local polish of its best point. Deterministic for a seed, whatever options.threads: every walk is
+// a pure function of its parameters, so walks run ahead of the search on other threads (the
+// global stage's initial population) give the same values the search would compute itself.
 #ifndef RABBIT_OPTIMIZERS_GAIT_SYNTHESIS_H_
 #define RABBIT_OPTIMIZERS_GAIT_SYNTHESIS_H_
 
@@ -10,6 +12,7 @@
 #include <functional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "rabbit/gait/gait_walk.h"
 
@@ -35,6 +38,8 @@ struct SynthesisOptions {
   double max_l_spread = 0.008;  // m, step-to-step variation of L_step over the window
   // Search box, per parameter of kSynthesisParamNames (lower < upper).
   std::array<std::pair<double, double>, kSynthesisParams> bounds = DefaultSynthesisBounds();
+  // Walks evaluated at once (1: all on the calling thread). The result does not depend on it.
+  int threads = 1;
   bool IsValid(std::string* error) const;
 };
 
@@ -49,9 +54,14 @@ struct SynthesisResult {
   GaitSpec spec;
   GaitMetrics metrics;
   double cost = 0.0;
-  int evaluations = 0;
+  int evaluations = 0;  // objective values the search asked for (at most options.budget)
+  int walks = 0;        // simulations run: evaluations not already known, and walks run ahead
+  int walks_ahead = 0;  // of which run ahead on other threads (options.threads > 1)
   double wall_seconds = 0.0;
   bool success = false;
+  // When !success: what stops the search, one phrase each (the criteria the best candidate
+  // misses and by how much, the bounds it lies on, the actuator limits it runs into, the budget).
+  std::vector<std::string> limits;
 };
 
 // The starting point: Table 2's (qr1_dsw, qi2_dsw, q0_d) interpolated (or extrapolated) at v, with
@@ -65,6 +75,11 @@ GaitSpec InitialGaitSpec(double target_v_m);
 //     + (L_step spread / max_l_spread)^2 over the last `window` steps.
 double GaitCost(const GaitMetrics& m, const SynthesisOptions& options);
 bool MeetsCriteria(const GaitMetrics& m, const SynthesisOptions& options);
+
+// The phrases of SynthesisResult::limits for a search that ended at `best` (re-walks it once,
+// recording, to measure its actuator saturation).
+std::vector<std::string> DiagnoseMiss(const SimSetup& setup, const SynthesisOptions& options,
+                                      const SynthesisResult& best);
 
 SynthesisResult SynthesizeGait(const SimSetup& setup, const SynthesisOptions& options,
                                const std::function<void(const SynthesisProgress&)>& progress);

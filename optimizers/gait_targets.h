@@ -1,7 +1,6 @@
-// The targets file of `rabbit gaits generate` (gaits/targets.toml): one [[gait]] per reference gait
-// to synthesize, with v_m (m/s), l_step (m, 0 or absent: none), seed, budget and an optional
-// [gait.bounds] table (`name = [lower, upper]` for any of kSynthesisParamNames) over a top-level
-// [bounds] over the defaults.
+// The targets file of a gait database (gaits/targets.toml): one [[gait]] per gait to synthesize,
+// over speed (v_m) and step length (l_step), each with a name, a role, a seed, a budget and
+// optional search bounds.
 #ifndef RABBIT_OPTIMIZERS_GAIT_TARGETS_H_
 #define RABBIT_OPTIMIZERS_GAIT_TARGETS_H_
 
@@ -9,16 +8,33 @@
 #include <vector>
 
 #include "gait_synthesis.h"
+#include "rabbit/gait/gait_database.h"
 
 namespace rabbit {
 
-// The gait's default name in the database: vm_<v_m to 2 decimals>.
-std::string DefaultGaitName(double v_m);
+struct GaitTarget {
+  std::string name;  // the gait's name in the database (its file is name.csv)
+  GaitRole role = GaitRole::kSpeed;
+  SynthesisOptions options;  // target_v_m, target_l_step, seed, budget, bounds
+  int line = 0;              // of its [[gait]] in the targets file (0: not from a file)
+};
 
-// Throws InputError (file, line, key) for anything malformed: unknown keys, bounds outside their
-// parameter's range or not lower < upper, targets SynthesisOptions::IsValid refuses, no target,
-// or two targets that would write the same gait (same name).
-std::vector<SynthesisOptions> ReadGaitTargets(const std::string& path);
+// The default names: vm_0.60 for a speed gait, vm_0.60_l_0.27 for a library gait (speed and step
+// length to the centimetre).
+std::string DefaultGaitName(double v_m, double l_step, GaitRole role);
+
+// Reads a targets file:
+//   [bounds]            optional, `name = [lower, upper]` over DefaultSynthesisBounds() for all
+//   [[gait]]            v_m (m/s, required), l_step (m; 0 or absent: none), name, role ("speed",
+//                       the default, or "library", which needs an l_step), seed, budget,
+//     [gait.bounds]     and bounds over the file's.
+// Throws InputError naming the file, line and key for an unknown key, a bad value, impossible
+// bounds, two targets with one name or one (v_m, l_step), or a name that is not a safe file name
+// or is one of the database's own files (index, manifest).
+std::vector<GaitTarget> ReadGaitTargets(const std::string& path);
+
+// The targets used when no file is given: the chapter's Table 2 (V_M, L_step), speed gaits.
+std::vector<GaitTarget> DefaultGaitTargets();
 
 }  // namespace rabbit
 

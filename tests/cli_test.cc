@@ -869,4 +869,74 @@ TEST_F(CliTest, RunEndsWithVerdictAndSummarisesFamilies) {
     EXPECT_NE(verbose.output.find(member + " "), std::string::npos) << member << " is not listed";
   }
   EXPECT_NE(verbose.output.find("data root: "), std::string::npos) << verbose.output;
+namespace {
+
+// A copy of the shipped database with one library gait more: vm_0.70's swing, its e shifted by
+// `shift` rad (beyond the speed gaits' range), named vm_0.70_l_0.41.
+void WriteDatabaseWithALibraryGait(const fs::path& db, double shift) {
+  const std::string root = RABBIT_SOURCE_DIR;
+  fs::copy(root + "/gaits/reference", db);
+  std::ifstream in(db / "vm_0.70.csv");
+  std::ofstream out(db / "vm_0.70_l_0.41.csv");
+  std::string line;
+  bool header = false;
+  while (std::getline(in, line)) {
+    if (line == "# name = vm_0.70") line = "# name = vm_0.70_l_0.41";
+    if (line == "# source = synthesized") line += "\n# role = library";
+    if (header) {
+      const size_t comma = line.find(',');
+      char e[32];
+      std::snprintf(e, sizeof e, "%.12g", std::stod(line.substr(0, comma)) + shift);
+      line = e + line.substr(comma);
+    }
+    if (line.rfind("e_rad,", 0) == 0) header = true;
+    out << line << "\n";
+  }
+  std::ofstream(db / "index.csv", std::ios::app)
+      << "vm_0.70_l_0.41,vm_0.70_l_0.41.csv,0.7,0.684,0.412,0.601,32,synthesized,library,0.41\n";
+}
+
+}  // namespace
+
+// Library gaits (other step lengths at a speed) take no part in the chapter's walker: the gait
+// pattern generated over such a database is the shipped one byte for byte, the speed gaits'
+// networks are the shipped ones, and a walk on that database is the walk on the shipped one.
+TEST_F(CliTest, LibraryGaitsLeaveTheGaitPatternTheNetworksAndTheWalkerAsTheyAre) {
+  const std::string root = RABBIT_SOURCE_DIR;
+  const fs::path db = dir_ / "db", nets = dir_ / "nets";
+  WriteDatabaseWithALibraryGait(db, -0.2);
+  const CliRun fis =
+      RunCli("fis generate --gaits " + db.string() + " --out " + (dir_ / "p.fll").string());
+  ASSERT_EQ(fis.code, 0) << fis.output;
+  EXPECT_EQ(ReadFile(dir_ / "p.fll"), ReadFile(root + "/gaits/gait_pattern.fll"));
+  const CliRun train = RunCli("train --gaits " + db.string() + " --out " + nets.string());
+  ASSERT_EQ(train.code, 0) << train.output;
+  for (const auto& entry : fs::directory_iterator(root + "/gaits/networks")) {
+    const std::string file = entry.path().filename().string();
+    if (file == "index.csv") continue;
+    EXPECT_EQ(ReadFile(nets / file), ReadFile(entry.path())) << file;
+  }
+  EXPECT_TRUE(fs::exists(nets / "vm_0.70_l_0.41_q_i1.csv"));
+  const CliRun list = RunCli("gaits list --dir " + db.string());
+  EXPECT_EQ(list.code, 0);
+  EXPECT_NE(list.output.find("vm_0.70_l_0.41   library"), std::string::npos) << list.output;
+  // The same small suite on the shipped files and on the database with its library gait.
+  std::string suite = SmallSuite("");
+  const std::string shipped = Write("shipped.toml", suite);
+  for (const auto& [from, to] :
+       {std::pair<std::string, std::string>{root + "/gaits/networks", nets.string()},
+        {root + "/gaits/reference", db.string()},
+        {root + "/gaits/gait_pattern.fll", (dir_ / "p.fll").string()}}) {
+    suite.replace(suite.find(from), from.size(), to);
+  }
+  const std::string library = Write("library.toml", suite);
+  const CliRun a =
+      RunCli("run " + shipped + " --jobs 1 --no-html -q --out " + (dir_ / "a").string());
+  ASSERT_EQ(a.code, 0) << a.output;
+  const CliRun b =
+      RunCli("run " + library + " --jobs 1 --no-html -q --out " + (dir_ / "b").string());
+  ASSERT_EQ(b.code, 0) << b.output;
+  for (const char* file : {"walk/steps.csv", "second/steps.csv", "walk+nearest_gait/steps.csv"}) {
+    EXPECT_EQ(ReadFile(dir_ / "a" / file), ReadFile(dir_ / "b" / file)) << file;
+  }
 }

@@ -127,5 +127,64 @@ TEST_F(GaitDatabaseTest, ErrorLinesPointAtTheRow) {
   }
 }
 
+TEST_F(GaitDatabaseTest, RolesRoundTripAndSpeedGaitsComeFirst) {
+  GaitRecord speed = SampleGait();
+  GaitRecord library = SampleGait();
+  library.name = "vm_0.40_l_0.20";
+  library.role = GaitRole::kLibrary;
+  library.target_v_m = 0.4;  // slower than the speed gait: still listed after it
+  library.target_l_step = 0.2;
+  GaitRecord faster = SampleGait();
+  faster.name = "vm_0.70";
+  faster.target_v_m = 0.7;
+  AddGaitToDatabase(library, dir_.string());
+  AddGaitToDatabase(faster, dir_.string());
+  AddGaitToDatabase(speed, dir_.string());
+  const std::vector<GaitIndexEntry> index = ReadGaitIndex((dir_ / "index.csv").string());
+  ASSERT_EQ(index.size(), 3u);
+  EXPECT_EQ(index[0].name, "vm_0.55");
+  EXPECT_EQ(index[1].name, "vm_0.70");
+  EXPECT_EQ(index[2].name, "vm_0.40_l_0.20");
+  EXPECT_EQ(index[2].role, GaitRole::kLibrary);
+  EXPECT_EQ(index[2].target_l_step, 0.2);
+  EXPECT_EQ(index[0].role, GaitRole::kSpeed);
+  EXPECT_EQ(index[0].target_l_step, 0.32);
+  EXPECT_EQ(GaitsOfRole(index, GaitRole::kSpeed).size(), 2u);
+  EXPECT_EQ(GaitsOfRole(index, GaitRole::kLibrary).size(), 1u);
+  EXPECT_EQ(ReadGaitFile((dir_ / "vm_0.40_l_0.20.csv").string()).role, GaitRole::kLibrary);
+  // A speed gait's file has no role line (its bytes are those of a file without roles).
+  std::ifstream in(dir_ / "vm_0.55.csv");
+  std::stringstream text;
+  text << in.rdbuf();
+  EXPECT_EQ(text.str().find("# role"), std::string::npos);
+  EXPECT_EQ(ReadGaitFile((dir_ / "vm_0.55.csv").string()).role, GaitRole::kSpeed);
+}
+
+TEST_F(GaitDatabaseTest, AnIndexWithoutRolesListsSpeedGaits) {
+  const std::string path = (dir_ / "index.csv").string();
+  std::ofstream(path) << "name,file,target_v_m,measured_v_m,l_step_m,t_step_s,steps,source\n"
+                      << "vm_0.60,vm_0.60.csv,0.6,0.58,0.35,0.6,32,test\n";
+  const std::vector<GaitIndexEntry> index = ReadGaitIndex(path);
+  ASSERT_EQ(index.size(), 1u);
+  EXPECT_EQ(index[0].role, GaitRole::kSpeed);
+  EXPECT_EQ(index[0].target_l_step, 0.0);
+}
+
+TEST_F(GaitDatabaseTest, AnUnknownRoleIsRefused) {
+  ExpectRefused(Tampered("# source = test\n", "# source = test\n# role = sprint\n"), 0,
+                "unknown role");
+  const std::string path = (dir_ / "index.csv").string();
+  std::ofstream(path)
+      << "name,file,target_v_m,measured_v_m,l_step_m,t_step_s,steps,source,role,target_l_step_m\n"
+      << "vm_0.60,vm_0.60.csv,0.6,0.58,0.35,0.6,32,test,sprint,0.3\n";
+  try {
+    ReadGaitIndex(path);
+    ADD_FAILURE() << "accepted an unknown role";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_EQ(e.key(), "role");
+  }
+}
+
 }  // namespace
 }  // namespace rabbit

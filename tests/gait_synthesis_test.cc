@@ -4,6 +4,10 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
+#include <string>
+#include <vector>
+
 namespace rabbit {
 namespace {
 
@@ -63,6 +67,82 @@ TEST(GaitSynthesisTest, InvalidOptionsAreRefused) {
   o = SynthesisOptions{};
   o.local_algorithm = "simplex";
   EXPECT_FALSE(o.IsValid(&error));
+}
+
+// A search that reaches the global stage gives the same result on 1 and 2 threads; on 2, the
+// global stage's initial population is walked ahead and then asked for (so none walked in vain
+// beyond what the search would walk itself), the values the search sees being the same.
+TEST(GaitSynthesisTest, ThreadsDoNotChangeTheResult) {
+  const Model model{ModelParams{}};
+  SimSetup setup;
+  setup.model = &model;
+  setup.options.record_every = 0;
+  SynthesisOptions o;
+  o.target_v_m = 0.95;  // beyond the default bounds: the local stage misses, the global runs
+  o.budget = 60;
+  o.walk_duration = 3.0;
+  o.window = 4;
+  std::vector<double> costs1, costs2;
+  const SynthesisResult one =
+      SynthesizeGait(setup, o, [&](const SynthesisProgress& p) { costs1.push_back(p.cost); });
+  o.threads = 2;
+  const SynthesisResult two =
+      SynthesizeGait(setup, o, [&](const SynthesisProgress& p) { costs2.push_back(p.cost); });
+  EXPECT_FALSE(one.success);
+  EXPECT_EQ(costs1, costs2);
+  EXPECT_EQ(one.evaluations, two.evaluations);
+  EXPECT_EQ(one.cost, two.cost);
+  EXPECT_EQ(one.spec.rules.q0_d, two.spec.rules.q0_d);
+  EXPECT_EQ(one.spec.rules.pulse_torque, two.spec.rules.pulse_torque);
+  EXPECT_EQ(one.limits, two.limits);
+  EXPECT_EQ(one.walks_ahead, 0);
+  // The global stage has budget 30: its starting point and 29 forecast points.
+  EXPECT_EQ(two.walks_ahead, o.budget / 2 - 1);
+  // Every point walked ahead was one the search asked for: no more walks than on one thread.
+  EXPECT_EQ(two.walks, one.walks);
+}
+
+TEST(GaitSynthesisTest, AMissNamesTheCriteriaTheBoundsAndTheBudget) {
+  const Model model{ModelParams{}};
+  SimSetup setup;
+  setup.model = &model;
+  setup.options.record_every = 0;
+  SynthesisOptions o;
+  o.target_v_m = 0.95;
+  o.budget = 50;
+  o.walk_duration = 4.0;
+  o.window = 4;
+  o.bounds[2] = {-5.0, 25.0};  // q0_d_deg
+  SynthesisResult best;
+  best.spec = InitialGaitSpec(0.8);
+  best.spec.rules.q0_d = 25.0 * M_PI / 180.0;
+  best.metrics.steps = 12;
+  best.metrics.walked_time = 4.0;
+  best.metrics.v_m = 0.85;
+  best.metrics.l_step = 0.45;
+  best.evaluations = 50;
+  const std::vector<std::string> limits = DiagnoseMiss(setup, o, best);
+  auto has = [&](const std::string& fragment) {
+    for (const std::string& l : limits) {
+      if (l.find(fragment) != std::string::npos) return true;
+    }
+    return false;
+  };
+  EXPECT_TRUE(has("V_M 0.850 m/s, 0.100 below the target 0.950"))
+      << ::testing::PrintToString(limits);
+  EXPECT_TRUE(has("q0_d_deg at its upper bound 25")) << ::testing::PrintToString(limits);
+  EXPECT_TRUE(has("budget exhausted (50 walks)")) << ::testing::PrintToString(limits);
+  EXPECT_FALSE(has("qi2_dsw_deg")) << ::testing::PrintToString(limits);
+  best.evaluations = 20;
+  const std::vector<std::string> early = DiagnoseMiss(setup, o, best);
+  EXPECT_NE(early.back().find("converged after 20 of its 50"), std::string::npos) << early.back();
+  // A search that misses reports its limits; one that meets its criteria reports none.
+  SynthesisOptions small = o;
+  small.budget = 12;
+  const SynthesisResult missed = SynthesizeGait(setup, small, nullptr);
+  ASSERT_FALSE(missed.success);
+  ASSERT_FALSE(missed.limits.empty());
+  EXPECT_NE(missed.limits.back().find("budget exhausted (12 walks)"), std::string::npos);
 }
 
 }  // namespace

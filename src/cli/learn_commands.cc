@@ -70,6 +70,9 @@ int RunTrain(const TrainArgs& a) {
   std::vector<GaitRecord> gaits;
   double e_min = std::numeric_limits<double>::infinity(), e_max = -e_min;
   std::set<std::string> names;
+  // The networks' common input range spans the speed gaits (all gaits if none is one): library
+  // gaits never change the structure, and so the networks, of the gaits the walker blends.
+  const bool has_speed = !GaitsOfRole(index, GaitRole::kSpeed).empty();
   for (const GaitIndexEntry& entry : index) {
     const std::string path = (fs::path(a.gaits) / entry.file).string();
     gaits.push_back(ReadGaitFile(path));
@@ -78,6 +81,7 @@ int RunTrain(const TrainArgs& a) {
       throw InputError(path, 0, "name",
                        "gait names must be unique and " + SafeNameRule(gaits.back().name));
     }
+    if (has_speed && entry.role != GaitRole::kSpeed) continue;
     for (const SwingSample& s : gaits.back().swing) {
       e_min = std::min(e_min, s.e);
       e_max = std::max(e_max, s.e);
@@ -218,12 +222,13 @@ int RunFisEval(const FisArgs& a) {
   return 0;
 }
 
-// Writes the default gait pattern (Table 3 generalised to the database's N_r gaits, V_M sets at
-// their measured velocities) for a gait database.
+// Writes the default gait pattern (Table 3 generalised to the database's N_r speed gaits, V_M
+// sets at their measured velocities) for a gait database; library gaits take no part in it.
 int RunFisGenerate(const std::string& gaits_dir, const std::string& out, bool quiet) {
   namespace fs = std::filesystem;
   const std::string index_path = (fs::path(gaits_dir) / "index.csv").string();
-  const std::vector<GaitIndexEntry> index = ReadGaitIndex(index_path);
+  const std::vector<GaitIndexEntry> index =
+      GaitsOfRole(ReadGaitIndex(index_path), GaitRole::kSpeed);
   std::vector<double> v;
   for (const GaitIndexEntry& e : index) {
     if (!v.empty() && !(e.measured_v_m > v.back())) {
@@ -236,7 +241,7 @@ int RunFisGenerate(const std::string& gaits_dir, const std::string& out, bool qu
   if (v.size() < 2 || v.size() > kMaxGaitPatternGaits) {
     throw InputError(index_path, 0, "",
                      "the gait pattern needs 2 to " + std::to_string(kMaxGaitPatternGaits) +
-                         " reference gaits, found " + std::to_string(v.size()));
+                         " speed gaits, found " + std::to_string(v.size()));
   }
   SaveFll(DefaultGaitPattern(v), out, DefaultGaitPatternComment(v));
   if (!quiet) {

@@ -20,8 +20,11 @@ namespace {
 
 constexpr double kDeg = M_PI / 180.0;
 const char* const kColumns[] = {"e_rad", "q_i1_rad", "q_i2_rad", "qd_i1_rad_s", "qd_i2_rad_s"};
+// The index's columns; an index written before gaits had roles has the first kOldIndexColumns.
 const char* const kIndexColumns[] = {"name",     "file",     "target_v_m", "measured_v_m",
-                                     "l_step_m", "t_step_s", "steps",      "source"};
+                                     "l_step_m", "t_step_s", "steps",      "source",
+                                     "role",     "target_l_step_m"};
+constexpr std::size_t kOldIndexColumns = 8;
 
 std::string IndexHeader() {
   std::string out;
@@ -60,6 +63,27 @@ std::vector<std::pair<std::string, double>> NumericMetadata(const GaitRecord& g)
 
 }  // namespace
 
+const char* GaitRoleName(GaitRole role) { return role == GaitRole::kLibrary ? "library" : "speed"; }
+
+bool ParseGaitRole(const std::string& text, GaitRole* role) {
+  if (text == "speed") {
+    *role = GaitRole::kSpeed;
+  } else if (text == "library") {
+    *role = GaitRole::kLibrary;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+std::vector<GaitIndexEntry> GaitsOfRole(const std::vector<GaitIndexEntry>& index, GaitRole role) {
+  std::vector<GaitIndexEntry> out;
+  for (const GaitIndexEntry& e : index) {
+    if (e.role == role) out.push_back(e);
+  }
+  return out;
+}
+
 std::string ModelHash(const ModelParams& p) {
   std::ostringstream text;
   text << std::setprecision(17) << p.trunk_mass << ' ' << p.trunk_com << ' ' << p.trunk_inertia
@@ -88,6 +112,8 @@ void WriteGaitFile(const GaitRecord& g, const std::string& path) {
     out << "# model_hash = " << g.model_hash << "\n";
     out << "# generator = rabbit " << RABBIT_VERSION << "\n";
     out << "# source = " << g.source << "\n";
+    // Speed gaits (the default) carry no role line: their files are as before roles existed.
+    if (g.role != GaitRole::kSpeed) out << "# role = " << GaitRoleName(g.role) << "\n";
     for (size_t i = 0; i < std::size(kColumns); ++i) out << (i ? "," : "") << kColumns[i];
     out << "\n" << std::setprecision(12);
     for (const SwingSample& s : g.swing) {
@@ -190,6 +216,10 @@ GaitRecord ReadGaitFile(const std::string& path) {
   if (g.name.empty()) g.name = std::filesystem::path(path).stem().string();
   g.model_hash = text_of("model_hash");
   g.source = text_of("source");
+  if (meta.count("role") != 0 && !ParseGaitRole(meta["role"].first, &g.role)) {
+    throw InputError(path, meta["role"].second, "role",
+                     "unknown role \"" + meta["role"].first + "\" (speed or library)");
+  }
   g.target_v_m = number_of("target_v_m");
   g.target_l_step = number_of("target_l_step_m");
   g.measured.v_m = number_of("measured_v_m");
@@ -226,7 +256,8 @@ void WriteGaitIndex(const std::vector<GaitIndexEntry>& entries, const std::strin
     out << std::setprecision(6);
     for (const GaitIndexEntry& e : entries) {
       out << e.name << ',' << e.file << ',' << e.target_v_m << ',' << e.measured_v_m << ','
-          << e.l_step << ',' << e.t_step << ',' << e.steps << ',' << e.source << "\n";
+          << e.l_step << ',' << e.t_step << ',' << e.steps << ',' << e.source << ','
+          << GaitRoleName(e.role) << ',' << e.target_l_step << "\n";
     }
   });
 }
@@ -237,6 +268,7 @@ std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
   std::string line;
   int number = 0;
   bool header_seen = false;
+  std::size_t columns = std::size(kIndexColumns);
   std::map<std::string, int> line_of_name, line_of_file;
   while (std::getline(in, line)) {
     ++number;
@@ -244,16 +276,19 @@ std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
     const std::vector<std::string> c = SplitCsv(line);
     if (!header_seen) {
       header_seen = true;
-      if (c != std::vector<std::string>(std::begin(kIndexColumns), std::end(kIndexColumns))) {
+      const std::vector<std::string> all(std::begin(kIndexColumns), std::end(kIndexColumns));
+      const std::vector<std::string> old(all.begin(), all.begin() + kOldIndexColumns);
+      if (c != all && c != old) {
         throw InputError(
             path, number, "",
             "expected the header row \"" + IndexHeader() + "\", got \"" + Trim(line) + "\"");
       }
+      columns = c.size();
       continue;
     }
-    if (c.size() != std::size(kIndexColumns)) {
+    if (c.size() != columns) {
       throw InputError(path, number, "",
-                       "expected " + std::to_string(std::size(kIndexColumns)) + " cells (" +
+                       "expected " + std::to_string(columns) + " cells (" +
                            IndexHeader() + "), got " + std::to_string(c.size()));
     }
     for (auto [seen, value, key] :
@@ -276,6 +311,12 @@ std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
     if (!(steps >= 0.0 && steps <= 1e6)) throw InputError(path, number, "steps", "out of range");
     e.steps = static_cast<int>(steps);
     e.source = c[7];
+    if (c.size() == 10) {
+      if (!ParseGaitRole(c[8], &e.role)) {
+        throw InputError(path, number, "role", "unknown role \"" + c[8] + "\" (speed or library)");
+      }
+      e.target_l_step = ParseFiniteNumber(c[9], path, number, "target_l_step_m");
+    }
     entries.push_back(e);
   }
   if (!header_seen)
@@ -303,9 +344,11 @@ std::string AddGaitToDatabase(const GaitRecord& gait, const std::string& dir) {
                                [&](const GaitIndexEntry& e) { return e.name == gait.name; }),
                 entries.end());
   entries.push_back({gait.name, file, gait.source, gait.target_v_m, gait.measured.v_m,
-                     gait.measured.l_step, gait.measured.t_step, gait.measured.steps});
+                     gait.measured.l_step, gait.measured.t_step, gait.measured.steps, gait.role,
+                     gait.target_l_step});
   std::sort(entries.begin(), entries.end(), [](const GaitIndexEntry& a, const GaitIndexEntry& b) {
-    return a.target_v_m < b.target_v_m;
+    return std::make_tuple(a.role, a.target_v_m, a.target_l_step, a.name) <
+           std::make_tuple(b.role, b.target_v_m, b.target_l_step, b.name);
   });
   WriteGaitIndex(entries, index_path);
   return path;

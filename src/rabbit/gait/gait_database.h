@@ -20,6 +20,14 @@ namespace rabbit {
 
 constexpr const char* kGaitFormat = "rabbit-gait/1";
 
+// What a gait is for. kSpeed: one of the gaits the chapter's walker blends over V_M (one per
+// speed; the gait pattern's fuzzy system and the walker use these only). kLibrary: one more step
+// length at a speed, for a step planner to choose among.
+enum class GaitRole { kSpeed, kLibrary };
+const char* GaitRoleName(GaitRole role);  // "speed", "library"
+// Parses "speed" or "library"; false for anything else.
+bool ParseGaitRole(const std::string& text, GaitRole* role);
+
 struct GaitRecord {
   std::string name;            // e.g. vm_0.60
   double target_v_m = 0.0;     // m/s
@@ -29,7 +37,8 @@ struct GaitRecord {
   std::string model_hash;      // of the model parameters it was made with
   std::string source;          // "synthesized" or how else it was made
   unsigned seed = 0;
-  std::vector<SwingSample> swing;  // e ascending
+  std::vector<SwingSample> swing;    // e ascending
+  GaitRole role = GaitRole::kSpeed;  // written as "# role = library" for library gaits only
 };
 
 // A short, stable hash of the model parameters (hex), recorded with every gait.
@@ -38,16 +47,23 @@ std::string ModelHash(const ModelParams& params);
 void WriteGaitFile(const GaitRecord& gait, const std::string& path);  // atomic
 GaitRecord ReadGaitFile(const std::string& path);                     // throws InputError
 
-// index.csv: name,file,target_v_m,measured_v_m,l_step_m,t_step_s,steps,source.
+// index.csv: name,file,target_v_m,measured_v_m,l_step_m,t_step_s,steps,source,role,
+// target_l_step_m (l_step_m is the measured step length). An index of the first eight columns
+// only (written before gaits had roles) reads as speed gaits with no step-length target.
 struct GaitIndexEntry {
   std::string name, file, source;
   double target_v_m = 0.0, measured_v_m = 0.0, l_step = 0.0, t_step = 0.0;
   int steps = 0;
+  GaitRole role = GaitRole::kSpeed;
+  double target_l_step = 0.0;  // m, 0 = none requested
 };
+// The entries of one role, in index order.
+std::vector<GaitIndexEntry> GaitsOfRole(const std::vector<GaitIndexEntry>& index, GaitRole role);
 void WriteGaitIndex(const std::vector<GaitIndexEntry>& entries, const std::string& path);
 std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path);  // throws InputError
-// Writes or replaces the gait's file in `dir` and its row in dir/index.csv (kept sorted by
-// target velocity). Returns the gait file's path.
+// Writes or replaces the gait's file in `dir` and its row in dir/index.csv (kept sorted: the
+// speed gaits first, by target velocity, then the library gaits by target velocity and step
+// length, so that the speed gaits' networks come first). Returns the gait file's path.
 std::string AddGaitToDatabase(const GaitRecord& gait, const std::string& dir);
 
 }  // namespace rabbit

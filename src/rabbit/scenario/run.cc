@@ -174,7 +174,12 @@ std::shared_ptr<const GaitLibrary> LoadGaitLibrary(const GaitPatternFiles& files
   const std::vector<GaitIndexEntry> index = ReadGaitIndex(index_path);
   std::vector<GaitRecord> gaits;
   std::vector<double> pitches;
-  for (const std::string& name : names) {
+  // The walker blends the speed gaits only: the networks of library gaits (other step lengths,
+  // for a step planner) are left out, so that the gait pattern's N_r gaits are the speed gaits.
+  std::vector<GaitCmacs> speed_networks;
+  std::vector<std::string> speed_names;
+  for (size_t k = 0; k < names.size(); ++k) {
+    const std::string& name = names[k];
     const auto entry = std::find_if(index.begin(), index.end(),
                                     [&name](const GaitIndexEntry& e) { return e.name == name; });
     if (entry == index.end()) {
@@ -182,9 +187,14 @@ std::shared_ptr<const GaitLibrary> LoadGaitLibrary(const GaitPatternFiles& files
                        "the networks in " + files.networks + " learnt gait \"" + name +
                            "\", which the gait database does not list");
     }
+    if (entry->role != GaitRole::kSpeed) continue;
     gaits.push_back(ReadGaitFile((fs::path(files.gaits) / entry->file).string()));
     pitches.push_back(gaits.back().spec.rules.q0_d);
+    speed_networks.push_back(std::move(networks[k]));
+    speed_names.push_back(name);
   }
+  networks = std::move(speed_networks);
+  names = std::move(speed_names);
   try {
     auto library = std::make_shared<GaitLibrary>(
         GaitLibrary{files, FuzzyCmac(std::move(fis), std::move(networks)), names, gaits});

@@ -584,12 +584,15 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
   ReadMembershipSets(t->Table("sets"), *CachedFll(f.fll), s);
   const std::vector<GaitIndexEntry> index =
       ReadGaitIndex((std::filesystem::path(f.gaits) / "index.csv").string());
-  if (index.empty()) t->Fail("gaits", "the gait database " + f.gaits + " lists no gait");
+  if (GaitsOfRole(index, GaitRole::kSpeed).empty()) {
+    t->Fail("gaits", "the gait database " + f.gaits + " lists no speed gait");
+  }
   s->start_gait = t->String("start_gait", "");
   const GaitIndexEntry* start = nullptr;
   if (s->start_gait.empty()) {
     const double v0 = s->velocity.At(0.0);
     for (const GaitIndexEntry& e : index) {
+      if (e.role != GaitRole::kSpeed) continue;  // the walker starts from a speed gait
       if (start == nullptr || std::abs(e.measured_v_m - v0) < std::abs(start->measured_v_m - v0)) {
         start = &e;
       }

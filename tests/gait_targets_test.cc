@@ -1,0 +1,125 @@
+// The targets file of a gait database: names, roles, per-target bounds, and every kind of bad
+// input refused with an InputError naming the file, line and key.
+#include "gait_targets.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <map>
+
+#include "rabbit/io/error.h"
+
+namespace rabbit {
+namespace {
+
+namespace fs = std::filesystem;
+
+class GaitTargetsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rabbit_gait_targets_" + std::to_string(::getpid()) + "_" +
+            std::string(::testing::UnitTest::GetInstance()->current_test_info()->name()));
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Write(const std::string& text) {
+    const std::string path = (dir_ / "targets.toml").string();
+    std::ofstream(path) << text;
+    return path;
+  }
+  // The InputError's message for a bad targets file (empty if it reads).
+  std::string Error(const std::string& text) {
+    try {
+      ReadGaitTargets(Write(text));
+    } catch (const InputError& e) {
+      return e.what();
+    }
+    return "";
+  }
+  fs::path dir_;
+};
+
+TEST_F(GaitTargetsTest, NamesRolesAndBounds) {
+  const std::vector<GaitTarget> t = ReadGaitTargets(
+      Write("[bounds]\nq0_d_deg = [-5, 20]\n"
+            "[[gait]]\nv_m = 0.6\nl_step = 0.34\n"
+            "[[gait]]\nv_m = 0.6\nl_step = 0.27\nrole = \"library\"\nbudget = 900\n"
+            "[gait.bounds]\nqr1_dsw_deg = [10, 60]\n"
+            "[[gait]]\nv_m = 0.6\nl_step = 0.3\nrole = \"library\"\nname = \"short\"\nseed = 4\n"));
+  ASSERT_EQ(t.size(), 3u);
+  EXPECT_EQ(t[0].name, "vm_0.60");
+  EXPECT_EQ(t[0].role, GaitRole::kSpeed);
+  EXPECT_EQ(t[1].name, "vm_0.60_l_0.27");
+  EXPECT_EQ(t[1].role, GaitRole::kLibrary);
+  EXPECT_EQ(t[1].options.budget, 900);
+  EXPECT_EQ(t[1].options.target_l_step, 0.27);
+  EXPECT_EQ(t[2].name, "short");
+  EXPECT_EQ(t[2].options.seed, 4u);
+  // Bounds: the file's [bounds] over the defaults, then the target's own.
+  const auto defaults = DefaultSynthesisBounds();
+  for (const GaitTarget& g : t) EXPECT_EQ(g.options.bounds[2], std::make_pair(-5.0, 20.0));
+  EXPECT_EQ(t[0].options.bounds[0], defaults[0]);
+  EXPECT_EQ(t[1].options.bounds[0], std::make_pair(10.0, 60.0));
+  EXPECT_EQ(t[2].options.bounds[0], defaults[0]);
+  EXPECT_GT(t[1].line, t[0].line);
+}
+
+TEST_F(GaitTargetsTest, DefaultNames) {
+  EXPECT_EQ(DefaultGaitName(0.6, 0.0, GaitRole::kSpeed), "vm_0.60");
+  EXPECT_EQ(DefaultGaitName(0.6, 0.34, GaitRole::kSpeed), "vm_0.60");
+  EXPECT_EQ(DefaultGaitName(0.6, 0.27, GaitRole::kLibrary), "vm_0.60_l_0.27");
+  EXPECT_EQ(DefaultGaitName(1.0, 0.5, GaitRole::kLibrary), "vm_1.00_l_0.50");
+}
+
+TEST_F(GaitTargetsTest, TheShippedTargetsAreSpeedGaitsAndLibraryCells) {
+  const std::vector<GaitTarget> t =
+      ReadGaitTargets(std::string(RABBIT_SOURCE_DIR) + "/gaits/targets.toml");
+  int speed = 0;
+  std::map<long, int> step_lengths;  // speed in cm/s -> step lengths there, the speed gait's too
+  for (const GaitTarget& g : t) {
+    ++step_lengths[std::lround(100.0 * g.options.target_v_m)];
+    if (g.role == GaitRole::kSpeed) {
+      ++speed;
+      EXPECT_EQ(g.name, DefaultGaitName(g.options.target_v_m, 0.0, GaitRole::kSpeed));
+    } else {
+      EXPECT_GT(g.options.target_l_step, 0.0) << g.name;
+      EXPECT_EQ(g.name,
+                DefaultGaitName(g.options.target_v_m, g.options.target_l_step, GaitRole::kLibrary));
+    }
+  }
+  EXPECT_EQ(speed, 8);
+  int speeds_with_three = 0;
+  for (const auto& [v, n] : step_lengths) speeds_with_three += n >= 3 ? 1 : 0;
+  EXPECT_GE(speeds_with_three, 5);
+}
+
+TEST_F(GaitTargetsTest, BadInputNamesLineAndKey) {
+  const std::string two_names =
+      Error("[[gait]]\nv_m = 0.5\n[[gait]]\nv_m = 0.6\nname = \"vm_0.50\"\n");
+  EXPECT_NE(two_names.find(":5"), std::string::npos) << two_names;
+  EXPECT_NE(two_names.find("name"), std::string::npos) << two_names;
+  EXPECT_NE(two_names.find("line 1"), std::string::npos) << two_names;
+  const std::string two_cells = Error(
+      "[[gait]]\nv_m = 0.6\nl_step = 0.3\nrole = \"library\"\n"
+      "[[gait]]\nv_m = 0.6\nl_step = 0.3\nrole = \"library\"\nname = \"other\"\n");
+  EXPECT_NE(two_cells.find("same (v_m, l_step)"), std::string::npos) << two_cells;
+  EXPECT_NE(Error("[[gait]]\nv_m = 0.6\nrole = \"library\"\n").find("l_step"), std::string::npos);
+  EXPECT_NE(Error("[[gait]]\nv_m = 0.6\nrole = \"fast\"\n").find("role"), std::string::npos);
+  EXPECT_NE(Error("[[gait]]\nv_m = 0.6\nname = \"index\"\n").find("name"), std::string::npos);
+  EXPECT_NE(Error("[[gait]]\nv_m = 0.6\nname = \"manifest\"\n").find("name"), std::string::npos);
+  EXPECT_NE(Error("[[gait]]\nv_m = 0.6\nname = \"../x\"\n").find("name"), std::string::npos);
+  EXPECT_NE(Error("[[gait]]\nv_m = 0.6\nspeed = 1\n").find("speed"), std::string::npos);
+  const std::string bounds = Error("[[gait]]\nv_m = 0.6\n[gait.bounds]\nq0_d_deg = [20, 10]\n");
+  EXPECT_NE(bounds.find("q0_d_deg"), std::string::npos) << bounds;
+  EXPECT_NE(Error("[[gait]]\nv_m = 0.6\n[gait.bounds]\nknee = [1, 2]\n").find("knee"),
+            std::string::npos);
+  EXPECT_NE(Error("[bounds]\n").find("gait"), std::string::npos);
+}
+
+}  // namespace
+}  // namespace rabbit
