@@ -869,6 +869,8 @@ TEST_F(CliTest, RunEndsWithVerdictAndSummarisesFamilies) {
     EXPECT_NE(verbose.output.find(member + " "), std::string::npos) << member << " is not listed";
   }
   EXPECT_NE(verbose.output.find("data root: "), std::string::npos) << verbose.output;
+}
+
 namespace {
 
 // A copy of the shipped database with one library gait more: vm_0.70's swing, its e shifted by
