@@ -15,6 +15,7 @@
 #include "gait_synthesis.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/output_ownership.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/report/gait_report.h"
 #include "rabbit/scenario/scenario.h"
@@ -86,6 +87,25 @@ bool SynthesizeOne(const SynthesisOptions& options, const std::string& name, boo
           std::abs(m.l_step - options.target_l_step) <= kAcceptedStepLengthError);
 }
 
+// Before any work: the database folder is rabbit's own (or new), the gait's file is a gait of
+// rabbit's (or new) under a name that is not one of the database's own files, and no other
+// rabbit writes the database meanwhile (the lock, held until the caller has written).
+OutputLock ClaimGaitDatabase(const std::string& dir, const std::vector<std::string>& names) {
+  CheckGaitDatabaseOutput("--dir", dir);
+  OutputLock lock(dir, "--dir");
+  CheckGaitDatabaseOutput("--dir", dir);
+  for (const std::string& name : names) {
+    if (IsReservedGaitName(name)) {
+      throw InputError("--name", 0, name,
+                       "is the name of one of the database's own files (" + name +
+                           ".csv): give the gait another name");
+    }
+    CheckOwnedFile("--dir", std::filesystem::path(dir) / (name + ".csv"),
+                   std::string("# format = ") + kGaitFormat, "a gait file of rabbit");
+  }
+  return lock;
+}
+
 std::string DefaultName(double v) {
   char buffer[32];
   std::snprintf(buffer, sizeof buffer, "vm_%.2f", v);
@@ -109,6 +129,7 @@ int RunSynthesize(const SynthesizeArgs& a) {
     std::cerr << "rabbit gaits synthesize: --name: use letters, digits, '.', '_' and '-' only\n";
     return 2;
   }
+  const OutputLock database_lock = ClaimGaitDatabase(a.dir, {name});
   const bool ok = SynthesizeOne(options, name, a.quiet, &record);
   if (record.swing.empty() || (!ok && !a.force)) {
     std::cerr << "rabbit gaits synthesize: the gait misses the criteria; nothing written (--force "
@@ -155,7 +176,7 @@ void ReadBounds(TomlReader& t, std::array<std::pair<double, double>, kSynthesisP
   b.Finish();
 }
 
-std::vector<SynthesisOptions> ReadTargets(const std::string& path) {
+std::vector<SynthesisOptions> ReadTargets(const std::string& path, std::vector<int>* lines) {
   TomlReader root = TomlReader::ParseFile(path);
   std::array<std::pair<double, double>, kSynthesisParams> common = DefaultSynthesisBounds();
   ReadBounds(root, &common);
@@ -172,6 +193,7 @@ std::vector<SynthesisOptions> ReadTargets(const std::string& path) {
     std::string error;
     if (!o.IsValid(&error)) t.Fail("", error);
     out.push_back(o);
+    lines->push_back(t.line());
   }
   root.Finish();
   if (out.empty()) root.Fail("gait", "no [[gait]] targets");
@@ -179,8 +201,26 @@ std::vector<SynthesisOptions> ReadTargets(const std::string& path) {
 }
 
 int RunGenerate(const GenerateArgs& a) {
+  std::vector<int> lines;
   const std::vector<SynthesisOptions> targets =
-      a.config.empty() ? DefaultTargets() : ReadTargets(a.config);
+      a.config.empty() ? DefaultTargets() : ReadTargets(a.config, &lines);
+  // Two targets of one name would write one gait file: refused, naming both.
+  std::vector<std::string> names;
+  for (size_t i = 0; i < targets.size(); ++i) {
+    names.push_back(DefaultName(targets[i].target_v_m));
+    for (size_t j = 0; j < i; ++j) {
+      if (names[j] != names[i]) continue;
+      auto where = [&](size_t k) {
+        return "target " + std::to_string(k + 1) +
+               (lines.empty() ? std::string() : " (line " + std::to_string(lines[k]) + ")");
+      };
+      throw InputError(a.config.empty() ? "the default targets" : a.config,
+                       lines.empty() ? 0 : lines[i], "v_m",
+                       where(j) + " and " + where(i) + " are both gait " + names[i] +
+                           ": give each target its own velocity");
+    }
+  }
+  const OutputLock database_lock = ClaimGaitDatabase(a.dir, names);
   std::vector<GaitRecord> records(targets.size());
   std::vector<char> ok(targets.size(), 0);
   std::vector<std::string> errors(targets.size());

@@ -13,7 +13,9 @@
 #include "cli/commands.h"
 #include "cmac_fit.h"
 #include "rabbit/gait/gait_database.h"
+#include "rabbit/io/atomic_file.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/output_ownership.h"
 #include "rabbit/learn/cmac_training.h"
 #include "rabbit/learn/fll.h"
 #include "rabbit/learn/gait_pattern.h"
@@ -60,6 +62,11 @@ int RunTrain(const TrainArgs& a) {
     std::cerr << "rabbit train: need 0 < beta <= 1, 1 <= epochs <= 1e6, 0 <= smoothness <= 1e6\n";
     return 2;
   }
+  // The networks folder, its staging folder and the lock, before any work: only a folder of
+  // networks rabbit train wrote is replaced.
+  const fs::path out(a.out), staging = out.string() + ".staging";
+  const OutputLock lock = ClaimMarkedFolder("--out", out, staging, kNetworksMarker,
+                                            "a networks folder of rabbit train");
   const std::vector<GaitIndexEntry> index =
       ReadGaitIndex((fs::path(a.gaits) / "index.csv").string());
   std::vector<GaitRecord> gaits;
@@ -130,16 +137,10 @@ int RunTrain(const TrainArgs& a) {
                          static_cast<int>(cmac.weights().size())});
     }
   }
-  const fs::path out(a.out);
-  const fs::path staging = out.string() + ".staging", old = out.string() + ".old";
-  fs::remove_all(staging);
-  fs::create_directories(staging);
-  for (const Fitted& f : fitted) WriteCmacFile(f.cmac, f.metadata, (staging / f.file).string());
-  WriteNetworkIndex(entries, (staging / "index.csv").string());
-  fs::remove_all(old);
-  if (fs::exists(out)) fs::rename(out, old);
-  fs::rename(staging, out);
-  fs::remove_all(old);
+  WriteMarkedFolder(staging, out, kNetworksMarker, "train", [&] {
+    for (const Fitted& f : fitted) WriteCmacFile(f.cmac, f.metadata, (staging / f.file).string());
+    WriteNetworkIndex(entries, (staging / "index.csv").string());
+  });
   std::printf("wrote %zu networks to %s\n", entries.size(), a.out.c_str());
   return 0;
 }
@@ -228,8 +229,10 @@ int RunFisGenerate(const std::string& gaits_dir, const std::string& out) {
                      "the gait pattern needs 2 to " + std::to_string(kMaxGaitPatternGaits) +
                          " reference gaits, found " + std::to_string(v.size()));
   }
-  SaveFll(DefaultGaitPattern(v), out, DefaultGaitPatternComment(v));
-  std::printf("wrote %s: N_r = %zu gaits, %zu rules\n", out.c_str(), v.size(), 5 * v.size());
+  const std::string text = ToFll(DefaultGaitPattern(v), DefaultGaitPatternComment(v));
+  WriteOutputFile(out, [&text](std::ostream& o) { o << text; });
+  std::fprintf(IsStandardOutput(out) ? stderr : stdout, "wrote %s: N_r = %zu gaits, %zu rules\n",
+               out.c_str(), v.size(), 5 * v.size());
   return 0;
 }
 
@@ -265,7 +268,7 @@ Command RegisterFis(CLI::App* app) {
   CLI::App* gen = fis->add_subcommand(
       "generate", "Write the default gait pattern (Table 3 generalised) for a gait database");
   gen->add_option("--gaits", *gen_gaits, "Gait database directory");
-  gen->add_option("--out", *gen_out, "FLL file to write");
+  gen->add_option("--out", *gen_out, "FLL file to write (-: standard output)");
   return {fis, [a, e, gen, gen_gaits, gen_out] {
             if (gen->parsed()) return RunFisGenerate(*gen_gaits, *gen_out);
             a->has_e = e->count() > 0;

@@ -18,6 +18,7 @@
 #include "rabbit/io/error.h"
 #include "rabbit/report/comparison.h"
 #include "rabbit/report/run_files.h"
+#include "rabbit/scenario/suite_inputs.h"
 
 namespace rabbit {
 namespace {
@@ -157,6 +158,8 @@ std::string PlanFingerprint(const Suite& suite, const std::vector<BatchJob>& pla
   print.Add(suite.name);
   print.Add(ReadBytes(suite.file));
   print.Add(params_path.empty() ? "" : ReadBytes(params_path));
+  // Every file the suite reads, by content (not by path: shards may run from other folders).
+  for (const InputFile& f : HashInputFiles(SuiteInputFiles(suite))) print.Add(f.sha256);
   print.Add(std::to_string(plan.size()));
   for (const BatchJob& job : plan) {
     print.Add(job.scenario->name);
