@@ -434,6 +434,25 @@ TEST_F(FileSafetyTest, TuneKilledAtEveryPhaseResumes) {
   }
 }
 
+// A tune --resume over a changed input file (a gait of the database) is refused, naming it.
+TEST_F(FileSafetyTest, TuneResumeRefusesChangedInputFilesNamingThem) {
+  fs::copy(kRoot + "/gaits", dir_ / "gaits", fs::copy_options::recursive);
+  fs::create_directories(dir_ / "scenarios");
+  fs::copy_file(kRoot + "/scenarios/tune_ramp.toml", dir_ / "scenarios" / "tune_ramp.toml");
+  std::string text = ReadFile(TuneJob());
+  text.replace(text.find(kRoot), kRoot.size(), dir_.string());
+  const fs::path job = Write("local_job.toml", text), out = dir_ / "job";
+  const std::string tune = "tune " + job.string() + " -q --no-html --out " + out.string();
+  ASSERT_TRUE(RunCli(tune, "RABBIT_TUNE_KILL_AFTER=2").killed);  // a log to resume
+  const fs::path changed = dir_ / "gaits" / "reference" / "vm_0.30.csv";
+  std::ofstream(changed, std::ios::app) << "\n";
+  const CliRun resumed = RunCli(tune + " --resume");
+  EXPECT_EQ(resumed.code, 2) << resumed.output;
+  EXPECT_NE(resumed.output.find(changed.string() + " changed since the run began"),
+            std::string::npos)
+      << resumed.output;
+}
+
 // A process started in the background, held at a phase by the test hook's FIFO handshake, so the
 // order of two writers is forced without any sleep.
 class HeldWriter {

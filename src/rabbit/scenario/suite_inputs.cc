@@ -19,17 +19,18 @@ void AddFolder(const std::string& dir, std::set<std::string>* files) {
   for (fs::directory_iterator it(dir, ec), end; !ec && it != end; it.increment(ec)) {
     const std::string name = it->path().filename().string();
     if (name.empty() || name[0] == '.') continue;
-    if (it->is_regular_file(ec)) files->insert(it->path().string());
+    if (it->is_regular_file(ec)) files->insert(it->path().lexically_normal().string());
   }
 }
 
 }  // namespace
 
 std::vector<std::string> SuiteInputFiles(const Suite& suite) {
-  std::set<std::string> files = {suite.file};
+  auto normal = [](const std::string& p) { return fs::path(p).lexically_normal().string(); };
+  std::set<std::string> files = {normal(suite.file)};
   for (const Scenario& s : suite.scenarios) {
-    if (!s.model_file.empty()) files.insert(s.model_file);
-    if (!s.pattern.fll.empty()) files.insert(s.pattern.fll);
+    if (!s.model_file.empty()) files.insert(normal(s.model_file));
+    if (!s.pattern.fll.empty()) files.insert(normal(s.pattern.fll));
     if (!s.pattern.networks.empty()) AddFolder(s.pattern.networks, &files);
     if (!s.pattern.gaits.empty()) AddFolder(s.pattern.gaits, &files);
   }
