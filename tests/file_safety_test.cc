@@ -417,6 +417,25 @@ TEST_F(FileSafetyTest, RunResumeRefusesChangedInputFilesNamingThem) {
   EXPECT_TRUE(fs::exists(dir_ / "out.partial" / ".rabbit-staging"));  // nothing discarded
 }
 
+// Shards run over different input files (a gait changed between them) are not merged.
+TEST_F(FileSafetyTest, ShardsOverChangedInputFilesAreNotMerged) {
+  fs::copy(kRoot + "/gaits", dir_ / "gaits", fs::copy_options::recursive);
+  std::string text = ReadFile(SmallSuite());
+  for (size_t at; (at = text.find(kRoot + "/gaits")) != std::string::npos;) {
+    text.replace(at, kRoot.size() + 6, (dir_ / "gaits").string());
+  }
+  const fs::path suite = Write("local.toml", text), out = dir_ / "out";
+  const std::string run = "run " + suite.string() + " --jobs 1 --no-html -q --out " + out.string();
+  ASSERT_EQ(RunCli(run + " --shard 1/2").code, 0);
+  std::ofstream(dir_ / "gaits" / "reference" / "vm_0.30.csv", std::ios::app) << "\n";
+  ASSERT_EQ(RunCli(run + " --shard 2/2").code, 0);
+  const auto shards = Snapshot(out);
+  const CliRun merged = RunCli("report -q " + out.string());
+  EXPECT_EQ(merged.code, 2) << merged.output;
+  EXPECT_NE(merged.output.find("another plan"), std::string::npos) << merged.output;
+  EXPECT_EQ(Snapshot(out), shards);
+}
+
 // SIGKILL at each of tune's phases, then --resume: the result of an uninterrupted job.
 TEST_F(FileSafetyTest, TuneKilledAtEveryPhaseResumes) {
   const fs::path job = TuneJob(), whole = dir_ / "whole", cut = dir_ / "cut";

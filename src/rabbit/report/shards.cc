@@ -16,6 +16,7 @@
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/output_ownership.h"
 #include "rabbit/report/comparison.h"
 #include "rabbit/report/run_files.h"
 #include "rabbit/scenario/suite_inputs.h"
@@ -393,9 +394,9 @@ MergedShards MergeShards(const std::string& dir_text,
     fs::remove_all(staging, ignored);
     throw;
   }
-  // What is left of DIR (shards/ with their markers and summaries, an earlier report) goes.
-  fs::remove_all(dir);
-  fs::rename(staging, dir);
+  // In DIR's place in one step; what is left of DIR (shards/ with their markers and summaries, an
+  // earlier report) goes.
+  ReplaceFolder(staging, dir);
   merged.suite = first.suite;
   merged.count = count;
   return merged;
