@@ -371,6 +371,23 @@ TEST_F(FileSafetyTest, TrainKilledAtEveryPhaseIsCleanedUpByTheNext) {
   }
 }
 
+// SIGKILL at each of gaits report's phases: the next report cleans up and succeeds.
+TEST_F(FileSafetyTest, GaitReportKilledAtEveryPhaseIsCleanedUpByTheNext) {
+  const fs::path db = SmallDatabase("db"), out = dir_ / "report";
+  const std::string report = "gaits report --dir " + db.string() + " --out " + out.string();
+  ASSERT_EQ(RunCli(report).code, 0);
+  const auto page = Snapshot(out);
+  for (const char* phase :
+       {"gaits-report-staging", "gaits-report-written", "gaits-report-replaced"}) {
+    SCOPED_TRACE(phase);
+    ASSERT_TRUE(RunCli(report, std::string("RABBIT_TEST_KILL_AT=") + phase).killed);
+    EXPECT_EQ(Snapshot(out), page);  // whole at every moment (the same walks, the same page)
+    ASSERT_EQ(RunCli(report).code, 0);
+    EXPECT_EQ(Snapshot(out), page);
+    EXPECT_FALSE(fs::exists(dir_ / "report.partial"));
+  }
+}
+
 // SIGKILL at each of run's phases, then the same command with --resume: the report of an
 // uninterrupted run, no staging folder left.
 TEST_F(FileSafetyTest, RunKilledAtEveryPhaseResumes) {
