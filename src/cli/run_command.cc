@@ -332,7 +332,9 @@ void ClaimStaging(const std::vector<Suite>& suites, const std::vector<std::vecto
     auto guard = std::make_unique<StagingGuard>();
     guard->path = staging;
     guard->lock = OutputLock(args.sharded ? staging : targets[i].written, "--out");
-    CheckStagingOutput(staging);  // again, now that no other rabbit can change it
+    // Again, now that no other rabbit can change them.
+    if (!args.sharded) CheckReportOutput(targets[i].written);
+    CheckStagingOutput(staging);
     existed.push_back(fs::exists(staging));
     guard->keep = existed.back();  // a failure before the second pass leaves it as it was
     fs::create_directories(staging);

@@ -325,8 +325,8 @@ MergedShards MergeShards(const std::string& dir_text,
       throw FolderError(f.folder, "was run with another plan (fingerprint " + f.info.plan + ", " +
                                       std::to_string(f.info.jobs) + " jobs) than " + other + " (" +
                                       first.plan + ", " + std::to_string(first.jobs) +
-                                      " jobs): the suite, --filter or --params differed; run "
-                                      "the odd shards again");
+                                      " jobs): the suite, its input files, --filter or --params "
+                                      "differed; run the odd shards again");
     }
   }
   const int count = first.shard.count;
