@@ -229,6 +229,9 @@ int RunFisGenerate(const std::string& gaits_dir, const std::string& out) {
                      "the gait pattern needs 2 to " + std::to_string(kMaxGaitPatternGaits) +
                          " reference gaits, found " + std::to_string(v.size()));
   }
+  if (!IsStandardOutput(out)) {  // a new file, or an FLL file to replace
+    CheckOwnedFile("--out", out, "Engine:", "an FLL file", /*skip_comments=*/true);
+  }
   const std::string text = ToFll(DefaultGaitPattern(v), DefaultGaitPatternComment(v));
   WriteOutputFile(out, [&text](std::ostream& o) { o << text; });
   std::fprintf(IsStandardOutput(out) ? stderr : stdout, "wrote %s: N_r = %zu gaits, %zu rules\n",

@@ -47,7 +47,9 @@ int RunSimulate(const SimulateArgs& args) {
   }
   const std::string out =
       args.out.empty() ? "reports/" + scenario.name + "/trajectory.csv" : args.out;
-  if (!IsStandardOutput(out)) CheckReplaceableFile("--out", out);  // before the work
+  if (!IsStandardOutput(out)) {  // before the work: a new file, or a trajectory to replace
+    CheckOwnedFile("--out", out, "t_s,", "a trajectory CSV of rabbit simulate");
+  }
   // Walker scenarios need their gait pattern (loaded before the clock starts).
   std::shared_ptr<const GaitLibrary> library;
   if (scenario.controller == ControllerKind::kFuzzyCmac)

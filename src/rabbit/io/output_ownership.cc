@@ -24,16 +24,22 @@ namespace fs = std::filesystem;
 constexpr const char* kGaitIndexHeader = "name,file,target_v_m,";
 constexpr const char* kMarkerPrefix = ".rabbit-";
 
-// The first line of a small regular file (empty when it is not one or cannot be read).
-std::string FirstLine(const fs::path& path) {
+// The first line of a regular file (at most 256 characters of it; empty when it is not one or
+// cannot be read); with skip_comments, the first of the first 1000 lines not starting with '#'.
+std::string FirstLine(const fs::path& path, bool skip_comments = false) {
   std::error_code ec;
   if (!fs::is_regular_file(fs::symlink_status(path, ec))) return "";
   std::ifstream in(path, std::ios::binary);
-  std::string line;
-  char c;
-  while (line.size() < 256 && in.get(c) && c != '\n') line += c;
-  if (!line.empty() && line.back() == '\r') line.pop_back();
-  return line;
+  for (int n = 0; n < 1000 && in; ++n) {
+    std::string line;
+    char c;
+    while (in.get(c) && c != '\n') {
+      if (line.size() < 256) line += c;
+    }
+    if (!line.empty() && line.back() == '\r') line.pop_back();
+    if (!skip_comments || line.empty() || line[0] != '#') return line;
+  }
+  return "";
 }
 
 std::string Kind(fs::file_type type) {
@@ -103,13 +109,16 @@ void CheckGaitDatabaseOutput(const std::string& flag, const std::string& dir) {
 }
 
 void CheckOwnedFile(const std::string& flag, const fs::path& path, const std::string& first_line,
-                    const std::string& what) {
+                    const std::string& what, bool skip_comments) {
   CheckReplaceableFile(flag, path);
   std::error_code ec;
-  if (!fs::exists(fs::symlink_status(path, ec)) || FirstLine(path) == first_line) return;
+  if (!fs::exists(fs::symlink_status(path, ec)) ||
+      FirstLine(path, skip_comments).rfind(first_line, 0) == 0) {
+    return;
+  }
   throw InputError(flag, 0, path.string(),
-                   "exists and is not " + what + " (its first line is not \"" + first_line +
-                       "\"): refusing to replace it");
+                   "exists and is not " + what + " (no line starting \"" + first_line +
+                       "\" where rabbit writes one): refusing to replace it");
 }
 
 void CheckReplaceableFile(const std::string& flag, const fs::path& path) {

@@ -39,10 +39,12 @@ void CheckOwnedFolder(const std::string& flag, const std::filesystem::path& path
 // (IsGaitDatabase).
 void CheckGaitDatabaseOutput(const std::string& flag, const std::string& dir);
 
-// Throws InputError unless `path` is missing or a regular file rabbit wrote, recognised by its
-// first line (e.g. "# format = rabbit-gait/1").
+// Throws InputError unless `path` is missing or a regular file of the kind rabbit writes there,
+// recognised by how its first line starts (e.g. "# format = rabbit-gait/1"; with skip_comments,
+// its first line not starting with '#', e.g. an FLL file's "Engine:").
 void CheckOwnedFile(const std::string& flag, const std::filesystem::path& path,
-                    const std::string& first_line, const std::string& what);
+                    const std::string& first_line, const std::string& what,
+                    bool skip_comments = false);
 
 // Throws InputError unless `path` is missing or a regular file (a single output file: a device,
 // FIFO, socket, folder or symbolic link there is refused).
