@@ -263,6 +263,10 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
     h = Fnv1a(FileText(suite_path), h);
     std::vector<std::map<std::string, double>> settings;
     const Suite suite = LoadSuite(suite_path, &job.base, &settings);
+    for (const InputFile& f : HashInputFiles(SuiteInputFiles(suite))) {
+      h = Fnv1a(f.sha256, h);
+      job.inputs.push_back(f);
+    }
     // The logs and comparison.csv name a run by suite and scenario: a suite twice would mix them.
     const auto [named, fresh] = suite_names.emplace(suite.name, suite_path);
     if (!fresh) {

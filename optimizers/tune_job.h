@@ -18,6 +18,7 @@
 #include <vector>
 
 #include "rabbit/scenario/params.h"
+#include "rabbit/scenario/suite_inputs.h"
 
 namespace rabbit {
 
@@ -80,6 +81,7 @@ struct TuneJob {
   int ceres_iterations = 50;
   double function_tolerance = 1e-6;
   std::string fingerprint;  // a hash of the job, its suites and overlay files: resume checks it
+  std::vector<InputFile> inputs;  // every file the suites read, by content (in the fingerprint)
 
   // The overlay of a candidate: the base overlay, then the parameters at x.
   ParamOverlay Overlay(const std::vector<double>& x) const;

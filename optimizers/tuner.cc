@@ -25,6 +25,8 @@
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/output_ownership.h"
+#include "rabbit/io/test_hooks.h"
 #include "rabbit/learn/cmac.h"
 #include "rabbit/scenario/batch.h"
 #include "rabbit/scenario/suite.h"
@@ -784,8 +786,10 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   std::map<std::pair<int, int>, Evaluation> recorded;  // replayable, from this folder's log
   std::map<std::pair<int, int>, Evaluation> foreign;   // from other shards' logs (to re-log)
   std::string problem;
+  OutputLock lock;  // rank 0's, on the folder it writes, until the last file is written
   RunAgreed([&] {  // rank 0 alone looks at the folder: a throw there must stop every rank
     if (!Ranks::root()) return;
+    lock = OutputLock(dir, "--out");
     const bool has_log = fs::exists(dir / "evaluations.csv");
     if (fs::exists(out) && !fs::is_directory(out)) {
       problem = out.string() + " exists and is not a folder";
@@ -799,8 +803,11 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
     } else if (has_log && options.resume) {
       const std::string marker = ReadText(dir / kMarker);
       if (marker.find(job.fingerprint) == std::string::npos) {
+        const std::string changed = ChangedInputs(marker, job.inputs);
+        const bool named = !changed.empty() && marker.find("input = ") != std::string::npos;
         problem = (dir / "evaluations.csv").string() + " was written by another job or " +
-                  "version of its files (fingerprint differs): use --force to start over";
+                  "version of its files (fingerprint differs" + (named ? ": " + changed : "") +
+                  "): use --force to start over";
       }
     }
     if (problem.empty() && options.force) {
@@ -869,8 +876,10 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
     if (Ranks::root()) {
       fs::create_directories(dir);
       WriteFileAtomically((dir / kMarker).string(), [&](std::ostream& o) {
-        o << "rabbit-tune/1 " << job.name << " " << job.fingerprint << "\n";
+        o << "rabbit-tune/1 " << job.name << " " << job.fingerprint << "\n"
+          << InputLines(job.inputs);
       });
+      TestKillPoint("tune-marked");
     }
     log.Open(dir, job, evaluations_text, runs_text);
   });
@@ -1012,6 +1021,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   }
   result.complete = !options.shard.active();
   if (Ranks::root() && result.complete && result.initial >= 0 && result.best >= 0) {
+    TestKillPoint("tune-searched");
     std::vector<std::string> warnings;
     WriteOutputs(job, dir, result, options, &warnings);
     for (const std::string& w : warnings) std::fprintf(stderr, "rabbit tune: warning: %s\n", w.c_str());

@@ -17,6 +17,7 @@
 #include "gait_targets.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/output_ownership.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/report/gait_report.h"
 #include "rabbit/scenario/scenario.h"
@@ -133,6 +134,25 @@ bool SynthesizeOne(const SynthesisOptions& options, const std::string& name, boo
   return r.success && missed.empty();
 }
 
+// Before any work: the database folder is rabbit's own (or new), the gait's file is a gait of
+// rabbit's (or new) under a name that is not one of the database's own files, and no other
+// rabbit writes the database meanwhile (the lock, held until the caller has written).
+OutputLock ClaimGaitDatabase(const std::string& dir, const std::vector<std::string>& names) {
+  CheckGaitDatabaseOutput("--dir", dir);
+  OutputLock lock(dir, "--dir");
+  CheckGaitDatabaseOutput("--dir", dir);
+  for (const std::string& name : names) {
+    if (IsReservedGaitName(name)) {
+      throw InputError("--name", 0, name,
+                       "is the name of one of the database's own files (" + name +
+                           ".csv): give the gait another name");
+    }
+    CheckOwnedFile("--dir", std::filesystem::path(dir) / (name + ".csv"),
+                   std::string("# format = ") + kGaitFormat, "a gait file of rabbit");
+  }
+  return lock;
+}
+
 int RunSynthesize(const SynthesizeArgs& a) {
   SynthesisOptions options;
   options.target_v_m = a.v_m;
@@ -156,6 +176,7 @@ int RunSynthesize(const SynthesizeArgs& a) {
     std::cerr << "rabbit gaits synthesize: --name: " << SafeNameRule(name) << "\n";
     return 2;
   }
+  const OutputLock database_lock = ClaimGaitDatabase(a.dir, {name});
   const bool ok = SynthesizeOne(options, name, a.quiet, &record);
   record.role = role;
   if (record.swing.empty() || (!ok && !a.force)) {
@@ -181,6 +202,9 @@ int RunGenerate(const GenerateArgs& a) {
   std::vector<GaitTarget> targets =
       a.config.empty() ? DefaultGaitTargets() : ReadGaitTargets(a.config);
   for (GaitTarget& t : targets) t.options.threads = a.threads;
+  std::vector<std::string> names;
+  for (const GaitTarget& t : targets) names.push_back(t.name);  // distinct: ReadGaitTargets
+  const OutputLock database_lock = ClaimGaitDatabase(a.dir, names);
   std::vector<GaitRecord> records(targets.size());
   std::vector<char> ok(targets.size(), 0);
   std::vector<std::string> errors(targets.size());
@@ -277,8 +301,9 @@ Command RegisterGaits(CLI::App* app) {
   s->add_option("--budget", synth->budget, "Simulations (walks) at most")
       ->check(CLI::Range(1, 1000000));
   DataDefault(s, s->add_option("--dir", synth->dir, kDatabaseHelp), &synth->dir);
-  s->add_option("--name", synth->name,
-                "Gait name (default: vm_<V_M>, e.g. vm_0.60, or vm_<V_M>_l_<L> for a library gait)");
+  s->add_option(
+      "--name", synth->name,
+      "Gait name (default: vm_<V_M>, e.g. vm_0.60, or vm_<V_M>_l_<L> for a library gait)");
   s->add_option("--role", synth->role,
                 "speed (a gait the walker blends over V_M) or library (needs --lstep)")
       ->check(CLI::IsMember({"speed", "library"}));

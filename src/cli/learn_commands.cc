@@ -15,7 +15,9 @@
 #include "cli/flag_checks.h"
 #include "cmac_fit.h"
 #include "rabbit/gait/gait_database.h"
+#include "rabbit/io/atomic_file.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/output_ownership.h"
 #include "rabbit/learn/cmac_training.h"
 #include "rabbit/learn/fll.h"
 #include "rabbit/learn/gait_pattern.h"
@@ -65,6 +67,11 @@ int RunTrain(const TrainArgs& a) {
     std::cerr << "rabbit train: need 0 < beta <= 1, 1 <= epochs <= 1e6, 0 <= smoothness <= 1e6\n";
     return 2;
   }
+  // The networks folder, its staging folder and the lock, before any work: only a folder of
+  // networks rabbit train wrote is replaced.
+  const fs::path out(a.out), staging = out.string() + ".staging";
+  const OutputLock lock = ClaimMarkedFolder("--out", out, staging, kNetworksMarker,
+                                            "a networks folder of rabbit train");
   const std::vector<GaitIndexEntry> index =
       ReadGaitIndex((fs::path(a.gaits) / "index.csv").string());
   std::vector<GaitRecord> gaits;
@@ -144,16 +151,10 @@ int RunTrain(const TrainArgs& a) {
                          static_cast<int>(cmac.weights().size())});
     }
   }
-  const fs::path out(a.out);
-  const fs::path staging = out.string() + ".staging", old = out.string() + ".old";
-  fs::remove_all(staging);
-  fs::create_directories(staging);
-  for (const Fitted& f : fitted) WriteCmacFile(f.cmac, f.metadata, (staging / f.file).string());
-  WriteNetworkIndex(entries, (staging / "index.csv").string());
-  fs::remove_all(old);
-  if (fs::exists(out)) fs::rename(out, old);
-  fs::rename(staging, out);
-  fs::remove_all(old);
+  WriteMarkedFolder(staging, out, kNetworksMarker, "train", [&] {
+    for (const Fitted& f : fitted) WriteCmacFile(f.cmac, f.metadata, (staging / f.file).string());
+    WriteNetworkIndex(entries, (staging / "index.csv").string());
+  });
   if (!a.quiet) std::printf("wrote %zu networks to %s\n", entries.size(), a.out.c_str());
   return 0;
 }
@@ -243,9 +244,14 @@ int RunFisGenerate(const std::string& gaits_dir, const std::string& out, bool qu
                      "the gait pattern needs 2 to " + std::to_string(kMaxGaitPatternGaits) +
                          " speed gaits, found " + std::to_string(v.size()));
   }
-  SaveFll(DefaultGaitPattern(v), out, DefaultGaitPatternComment(v));
+  if (!IsStandardOutput(out)) {  // a new file, or an FLL file to replace
+    CheckOwnedFile("--out", out, "Engine:", "an FLL file", /*skip_comments=*/true);
+  }
+  const std::string text = ToFll(DefaultGaitPattern(v), DefaultGaitPatternComment(v));
+  WriteOutputFile(out, [&text](std::ostream& o) { o << text; });
   if (!quiet) {
-    std::printf("wrote %s: N_r = %zu gaits, %zu rules\n", out.c_str(), v.size(), 5 * v.size());
+    std::fprintf(IsStandardOutput(out) ? stderr : stdout, "wrote %s: N_r = %zu gaits, %zu rules\n",
+                 out.c_str(), v.size(), 5 * v.size());
   }
   return 0;
 }
@@ -303,7 +309,8 @@ Command RegisterFis(CLI::App* app) {
               gen_gaits.get());
   DataDefault(
       gen,
-      gen->add_option("--out,-o", *gen_out, "FLL file to write (a default is below the data root)"),
+      gen->add_option("--out,-o", *gen_out,
+                      "FLL file to write (a default is below the data root; -: standard output)"),
       gen_out.get());
   auto gen_quiet = std::make_shared<bool>(false);
   gen->add_flag("--quiet,-q", *gen_quiet, "Print nothing but errors");

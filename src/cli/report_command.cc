@@ -12,6 +12,7 @@
 #include "cli/commands.h"
 #include "cli/flag_checks.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/output_ownership.h"
 #include "rabbit/report/shards.h"
 #include "rabbit/report/suite_report.h"
 #include "rabbit/scenario/ranks.h"
@@ -35,6 +36,13 @@ int Report(const ReportArgs& args) {
     return 2;
   }
   std::vector<std::string> warnings;
+  // One writer per folder; only a folder rabbit run or rabbit tune wrote is written into.
+  const OutputLock lock(args.dir, "dir");
+  if (!HasMarker(args.dir, {kReportMarker, kTuneMarker}) && !HasShards(args.dir)) {
+    throw InputError(args.dir, 0, "",
+                     std::string("is not a report of rabbit run or rabbit tune (no ") +
+                         kReportMarker + ", " + kTuneMarker + " or shards/): nothing written");
+  }
   if (fs::exists(fs::path(args.dir) / ".rabbit-tune")) {  // a tuning job's folder
     if (!fs::exists(fs::path(args.dir) / "meta.csv")) {
       throw InputError(args.dir, 0, "",

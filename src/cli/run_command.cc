@@ -8,9 +8,7 @@
 // job whenever one of its threads is free, and rank 0 alone writes (rabbit/report/rank_batch.h). With --shard I/N only the
 // jobs i with i mod N = I - 1 run, into DIR/shards/I-of-N/, which rabbit report DIR merges
 // (rabbit/report/shards.h).
-#include <fcntl.h>
 #include <sched.h>
-#include <sys/file.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -34,6 +32,8 @@
 #include "cli/flag_checks.h"
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/output_ownership.h"
+#include "rabbit/io/test_hooks.h"
 #include "rabbit/report/comparison.h"
 #include "rabbit/report/rank_batch.h"
 #include "rabbit/report/run_files.h"
@@ -43,6 +43,7 @@
 #include "rabbit/scenario/params.h"
 #include "rabbit/scenario/ranks.h"
 #include "rabbit/scenario/suite.h"
+#include "rabbit/scenario/suite_inputs.h"
 
 namespace rabbit::cli {
 namespace {
@@ -71,13 +72,15 @@ struct RunArgs {
 // The default suite: scenarios/paper.toml below the data root (cli/data_root.h).
 std::string DefaultSuite() { return DataPath(kDefaultSuite); }
 
-// A staging folder's marker (which plan it holds) and lock (which process writes it).
+// A staging folder's marker: which plan it holds, and the content hash of every input file.
 constexpr const char* kStagingMarker = ".rabbit-staging";
-constexpr const char* kStagingLock = ".lock";
+constexpr const char* kLegacyStagingLock = ".lock";  // the lock's place in earlier versions
 constexpr const char* kStagingTag = "rabbit-staging/1";
 
-std::string StagingMarkerText(const std::string& suite, const std::string& plan) {
-  return std::string(kStagingTag) + "\nsuite = " + suite + "\nplan = " + plan + "\n";
+std::string StagingMarkerText(const std::string& suite, const std::string& plan,
+                              const std::vector<InputFile>& inputs) {
+  return std::string(kStagingTag) + "\nsuite = " + suite + "\nplan = " + plan + "\n" +
+         InputLines(inputs);
 }
 
 std::string ReadSmallFile(const fs::path& path) {
@@ -87,15 +90,15 @@ std::string ReadSmallFile(const fs::path& path) {
   return text.str();
 }
 
-// Rank 0's hold on a suite's staging folder: the lock (an flock on DIR.partial/.lock, which the
-// kernel releases when the process dies, so a killed run leaves no stale lock). Unless released,
-// the folder is removed on failure, but kept when it holds finished runs, for --resume.
+// Rank 0's hold on a suite's output: the lock (OutputLock, on the folder finally written), held
+// until the last rename. Unless released, the staging folder is removed on failure, but kept when
+// it holds finished runs, for --resume.
 struct StagingGuard {
   fs::path path;
-  int lock = -1;
+  OutputLock lock;
   bool keep = false;
   ~StagingGuard() {
-    if (lock < 0) return;  // not ours (another rank's, or another process holds it)
+    if (!lock.held()) return;  // not ours (another rank's, or another process holds it)
     std::error_code ignored;
     if (!keep) {
       bool finished = false;
@@ -107,10 +110,9 @@ struct StagingGuard {
         std::cerr << "rabbit run: the finished runs are kept in " << path.string()
                   << ": the same command with --resume runs the rest\n";
       } else {
-        fs::remove_all(path, ignored);
+        RemoveOwnedFolder(path);
       }
     }
-    ::close(lock);
   }
 };
 
@@ -119,8 +121,9 @@ struct StagingGuard {
 struct SuiteTarget {
   fs::path report;
   fs::path written;
-  std::string plan;  // the plan's fingerprint (PlanFingerprint)
-  fs::path staging;  // beside the report: DIR.partial, or DIR.shard-I-of-N.partial
+  std::string plan;               // the plan's fingerprint (PlanFingerprint)
+  fs::path staging;               // beside the report: DIR.partial, or DIR.shard-I-of-N.partial
+  std::vector<InputFile> inputs;  // every file the suite reads, hashed at planning
 };
 
 // What a resume found finished in a suite's staging folder, per job of this invocation (the
@@ -274,7 +277,7 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& plan,
 void CheckReportOutput(const fs::path& out) {
   if (!fs::exists(out)) return;
   if (fs::is_directory(out) && (fs::is_empty(out) || fs::exists(out / kReportMarker))) return;
-  if (fs::is_directory(out / kShardsFolder)) {
+  if (fs::is_directory(out) && fs::is_directory(out / kShardsFolder)) {
     throw InputError("--out", 0, out.string(),
                      "holds the shards of a sharded run: merge them with rabbit report " +
                          out.string() + ", or remove " + (out / kShardsFolder).string());
@@ -282,6 +285,20 @@ void CheckReportOutput(const fs::path& out) {
   throw InputError("--out", 0, out.string(),
                    std::string("exists and is not a report of rabbit run (no ") + kReportMarker +
                        "): refusing to replace it");
+}
+
+// Throws InputError unless the staging folder beside a report is rabbit run's own: missing, empty,
+// or holding a staging, report or shard marker (or, from earlier versions, only their lock file).
+void CheckStagingOutput(const fs::path& staging) {
+  if (fs::is_directory(staging)) {
+    bool only_lock = true;
+    for (const fs::directory_entry& e : fs::directory_iterator(staging)) {
+      only_lock = only_lock && e.path().filename() == kLegacyStagingLock;
+    }
+    if (only_lock) return;
+  }
+  CheckOwnedFolder("--out", staging, {kStagingMarker, kReportMarker, kShardMarker},
+                   "a staging folder of rabbit run");
 }
 
 // Rank 0: takes each suite's staging folder (its lock) and finds what a killed run of the same
@@ -300,26 +317,33 @@ void ClaimStaging(const std::vector<Suite>& suites, const std::vector<std::vecto
     Finished& f = (*finished)[i];
     f.done.assign(owned.size(), false);
     f.briefs.assign(owned.size(), RunBrief());
-    if (fs::exists(staging) && !fs::is_directory(staging)) {
-      throw InputError("--out", 0, staging.string(), "exists and is not a staging folder");
-    }
-    existed.push_back(fs::exists(staging));
-    fs::create_directories(staging);
+    // One writer per output, from here until the last rename: a shard's lock is its staging
+    // folder's (shards of one report run side by side), a report's is the report's.
     auto guard = std::make_unique<StagingGuard>();
     guard->path = staging;
-    const int lock = ::open((staging / kStagingLock).c_str(), O_RDWR | O_CREAT | O_CLOEXEC, 0644);
-    if (lock < 0 || ::flock(lock, LOCK_EX | LOCK_NB) != 0) {
-      if (lock >= 0) ::close(lock);
-      throw InputError("--out", 0, targets[i].report.string(),
-                       "another rabbit run is writing this report (" + staging.string() +
-                           " is locked): wait for it to end, or give another --out");
-    }
-    guard->lock = lock;
+    guard->lock = OutputLock(args.sharded ? staging : targets[i].written, "--out");
+    // Again, now that no other rabbit can change them.
+    if (!args.sharded) CheckReportOutput(targets[i].written);
+    CheckStagingOutput(staging);
+    existed.push_back(fs::exists(staging));
     guard->keep = existed.back();  // a failure before the second pass leaves it as it was
+    fs::create_directories(staging);
     guards->push_back(std::move(guard));
     if (!existed.back() || !args.resume) continue;
-    if (ReadSmallFile(staging / kStagingMarker) !=
-        StagingMarkerText(suites[i].name, targets[i].plan)) {
+    const std::string plan_marker = ReadSmallFile(staging / kStagingMarker);
+    if (plan_marker.empty()) {
+      // A staging folder without its plan (emptied, or the old report a kill left after the
+      // swap): nothing to resume.
+      existed.back() = false;
+      continue;
+    }
+    if (plan_marker != StagingMarkerText(suites[i].name, targets[i].plan, targets[i].inputs)) {
+      const std::string changed = ChangedInputs(plan_marker, targets[i].inputs);
+      if (!changed.empty()) {
+        throw InputError("--resume", 0, staging.string(),
+                         "holds an unfinished run over other input files: " + changed +
+                             "; nothing to resume: run without --resume to discard it");
+      }
       throw InputError("--resume", 0, staging.string(),
                        "holds an unfinished run of another plan (the suite file, --params, "
                        "--filter or the program's version differ): nothing to resume; run "
@@ -343,7 +367,8 @@ void ClaimStaging(const std::vector<Suite>& suites, const std::vector<std::vecto
   for (size_t i = 0; i < suites.size(); ++i) {
     const fs::path& staging = targets[i].staging;
     const Finished& f = (*finished)[i];
-    std::set<std::string> keep = {kStagingLock};
+    // The marker stays (replaced atomically below), so a kill here leaves a folder still ours.
+    std::set<std::string> keep = {kStagingMarker};
     const std::vector<size_t> owned = OwnedJobs(plans[i], args);
     for (size_t k = 0; k < owned.size(); ++k) {
       const BatchJob& job = plans[i][owned[k]];
@@ -354,9 +379,10 @@ void ClaimStaging(const std::vector<Suite>& suites, const std::vector<std::vecto
       if (keep.count(entry.path().filename().string()) != 0) continue;
       removed += entry.is_directory() ? 1 : 0;
       fs::remove_all(entry.path());
+      TestKillPoint("run-clearing-staging");
     }
     WriteFileAtomically((staging / kStagingMarker).string(), [&](std::ostream& out) {
-      out << StagingMarkerText(suites[i].name, targets[i].plan);
+      out << StagingMarkerText(suites[i].name, targets[i].plan, targets[i].inputs);
     });
     (*guards)[i]->keep = false;
     if (args.quiet) continue;
@@ -424,7 +450,8 @@ int RunRun(RunArgs args) {
         throw InputError("--out", 0, args.out, "name a folder for the report");
       }
       SuiteTarget target{out, out, PlanFingerprint(suite, plans[i], args.params),
-                         fs::path(out.string() + ".partial")};
+                         fs::path(out.string() + ".partial"),
+                         HashInputFiles(SuiteInputFiles(suite))};
       if (args.sharded) {
         CheckShardOutput(out.string(), args.shard);
         target.written = out / kShardsFolder / ShardFolderName(args.shard);
@@ -434,6 +461,7 @@ int RunRun(RunArgs args) {
       } else {
         CheckReportOutput(out);
       }
+      CheckStagingOutput(target.staging);
       targets.push_back(target);
     }
     // Every gait library loads now: a bad gait pattern is bad input, found before anything runs.
@@ -453,6 +481,7 @@ int RunRun(RunArgs args) {
   RunAgreed([&] {
     if (Ranks::root()) ClaimStaging(suites, plans, targets, args, &staged, &finished);
   });
+  if (Ranks::root()) TestKillPoint("run-claimed");
   std::string done_text;
   for (const Finished& f : finished) {
     for (bool d : f.done) done_text += d ? '1' : '0';
@@ -478,19 +507,20 @@ int RunRun(RunArgs args) {
   }
   RunAgreed([&] {
     if (!Ranks::root()) return;
+    TestKillPoint("run-staged");
     for (size_t i = 0; i < suites.size(); ++i) {
       const fs::path& written = targets[i].written;
       const fs::path& staging = targets[i].staging;
+      // In one step (the old report, checked ours at planning, goes to the staging folder and is
+      // removed), still under the lock.
+      ReplaceFolder(staging, written);
+      staged[i]->keep = true;
+      TestKillPoint("run-replaced");
       // The markers served the resume only: the report is as it always was.
-      for (const fs::directory_entry& entry : fs::directory_iterator(staging)) {
+      for (const fs::directory_entry& entry : fs::directory_iterator(written)) {
         if (entry.is_directory()) fs::remove(entry.path() / kRunMarker);
       }
-      fs::remove(staging / kStagingMarker);
-      fs::remove(staging / kStagingLock);  // still held (the descriptor) until the guard ends
-      if (fs::exists(written)) fs::remove_all(written);
-      fs::create_directories(written.parent_path().empty() ? "." : written.parent_path());
-      fs::rename(staging, written);
-      staged[i]->keep = true;
+      fs::remove(written / kStagingMarker);
     }
   });
   if (Ranks::root() && !args.quiet) std::printf("%s\n", VerdictLine(tally).c_str());

@@ -6,7 +6,9 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "rabbit/io/atomic_file.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/output_ownership.h"
 #include "rabbit/model/model.h"
 #include "rabbit/scenario/params.h"
 #include "rabbit/scenario/run.h"
@@ -43,6 +45,11 @@ int RunSimulate(const SimulateArgs& args) {
       return 2;
     }
   }
+  const std::string out =
+      args.out.empty() ? "reports/" + scenario.name + "/trajectory.csv" : args.out;
+  if (!IsStandardOutput(out)) {  // before the work: a new file, or a trajectory to replace
+    CheckOwnedFile("--out", out, "t_s,", "a trajectory CSV of rabbit simulate");
+  }
   // Walker scenarios need their gait pattern (loaded before the clock starts).
   std::shared_ptr<const GaitLibrary> library;
   if (scenario.controller == ControllerKind::kFuzzyCmac)
@@ -53,29 +60,30 @@ int RunSimulate(const SimulateArgs& args) {
   const double wall =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 
-  const std::string out =
-      args.out.empty() ? "reports/" + scenario.name + "/trajectory.csv" : args.out;
-  WriteTrajectoryCsvFile(result, out);
+  WriteOutputFile(out, [&result](std::ostream& o) { WriteTrajectoryCsv(result, o); });
 
   if (!args.quiet) {
+    // With --out -, the CSV is standard output: the summary goes to standard error.
+    FILE* talk = IsStandardOutput(out) ? stderr : stdout;
     const double period = scenario.options.control_period;
-    std::printf("scenario   %s (%s)\n", scenario.name.c_str(), scenario.file.c_str());
-    std::printf("outcome    %s%s%s\n", OutcomeName(result.outcome),
-                result.reason.empty() ? "" : ": ", result.reason.c_str());
-    std::printf("simulated  %.3f s in %.3f s wall (%.0fx real time), integrator %s\n", result.t_end,
-                wall, wall > 0 ? result.t_end / wall : 0.0,
-                IntegratorName(scenario.options.integrator.kind));
-    std::printf("steps      %ld internal, %ld rhs evals, %ld contact events\n",
-                result.integrator.steps, result.integrator.rhs_evals, result.num_events);
-    std::printf("saturation hip1 %.3f s, knee1 %.3f s, hip2 %.3f s, knee2 %.3f s\n",
-                result.saturation_time(0, period), result.saturation_time(1, period),
-                result.saturation_time(2, period), result.saturation_time(3, period));
+    std::fprintf(talk, "scenario   %s (%s)\n", scenario.name.c_str(), scenario.file.c_str());
+    std::fprintf(talk, "outcome    %s%s%s\n", OutcomeName(result.outcome),
+                 result.reason.empty() ? "" : ": ", result.reason.c_str());
+    std::fprintf(talk, "simulated  %.3f s in %.3f s wall (%.0fx real time), integrator %s\n",
+                 result.t_end, wall, wall > 0 ? result.t_end / wall : 0.0,
+                 IntegratorName(scenario.options.integrator.kind));
+    std::fprintf(talk, "steps      %ld internal, %ld rhs evals, %ld contact events\n",
+                 result.integrator.steps, result.integrator.rhs_evals, result.num_events);
+    std::fprintf(talk, "saturation hip1 %.3f s, knee1 %.3f s, hip2 %.3f s, knee2 %.3f s\n",
+                 result.saturation_time(0, period), result.saturation_time(1, period),
+                 result.saturation_time(2, period), result.saturation_time(3, period));
     if (!run.steps.empty()) {
-      std::printf("walking    %zu steps, %.2f m, mean L_step %.3f m, mean |V_M - V_d| %.3f m/s\n",
-                  run.steps.size(), run.metrics.distance, run.metrics.l_step_mean,
-                  run.metrics.mean_abs_speed_error);
+      std::fprintf(talk,
+                   "walking    %zu steps, %.2f m, mean L_step %.3f m, mean |V_M - V_d| %.3f m/s\n",
+                   run.steps.size(), run.metrics.distance, run.metrics.l_step_mean,
+                   run.metrics.mean_abs_speed_error);
     }
-    std::printf("wrote      %s (%zu rows)\n", out.c_str(), result.samples.size());
+    std::fprintf(talk, "wrote      %s (%zu rows)\n", out.c_str(), result.samples.size());
   }
   if (!scenario.expected_outcome.empty() &&
       scenario.expected_outcome != OutcomeName(result.outcome)) {
@@ -94,7 +102,8 @@ Command RegisterSimulate(CLI::App* app) {
       app->add_subcommand("simulate", "Run one scenario and write its full time series");
   cmd->add_option("scenario", args->scenario, "Scenario file (TOML)")->required();
   cmd->add_option("--out,-o", args->out,
-                  "Trajectory CSV file to write (default: reports/<scenario name>/trajectory.csv)");
+                  "Trajectory CSV file to write (default: reports/<scenario name>/trajectory.csv; "
+                  "-: standard output)");
   cmd->add_option("--integrator", args->integrator,
                   "Override the scenario's integrator (default: the scenario's)")
       ->check(CLI::IsMember({"arkode", "cvode", "cvode-adams"}));

@@ -98,7 +98,8 @@ Command RegisterTune(CLI::App* app) {
   CLI::App* cmd = app->add_subcommand(
       "tune", "Tune parameters over scenario suites with NLopt or Ceres (a job file)");
   cmd->add_option("job", args->job,
-                  "Tuning job (TOML, docs/formats/tune-job.md; shipped ones: optimizers/jobs/ below the data root)")
+                  "Tuning job (TOML, docs/formats/tune-job.md; shipped ones: optimizers/jobs/ "
+                  "below the data root)")
       ->required();
   cmd->add_option("--out,-o", args->options.out,
                   "Job folder to write: log, best.toml, report (default: reports/<job name>)");

@@ -10,8 +10,16 @@
 namespace rabbit {
 
 // Creates missing parent directories, calls write(stream) on a temporary file and renames it to
-// path. Throws std::runtime_error (naming the file) when anything fails; the temporary is removed.
+// path. Only a regular file is ever replaced: a folder, device, FIFO, socket or symbolic link at
+// the path is an InputError (naming it), and nothing is written. Throws std::runtime_error (naming
+// the file) when anything else fails; the temporary is removed.
 void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+// A command's single output file: "-" writes to standard output, anything else atomically.
+void WriteOutputFile(const std::string& path, const std::function<void(std::ostream&)>& write);
+
+// Whether a single output file goes to standard output.
+inline bool IsStandardOutput(const std::string& path) { return path == "-"; }
 
 }  // namespace rabbit
 

@@ -6,12 +6,19 @@
 
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/output_ownership.h"
 #include "rabbit/report/svg.h"
 
 namespace rabbit {
 
 std::string WriteGaitReport(const std::string& dir, const std::string& out_dir) {
   namespace fs = std::filesystem;
+  // Only a gait report rabbit wrote is replaced; written whole in a staging folder beside it.
+  fs::path out = fs::path(out_dir).lexically_normal();
+  if (out.filename().empty()) out = out.parent_path();  // "dir/" -> "dir"
+  const fs::path staging = out.string() + ".partial";
+  const OutputLock lock =
+      ClaimMarkedFolder("--out", out, staging, kGaitReportMarker, "a gait report of rabbit");
   const std::vector<GaitIndexEntry> index = ReadGaitIndex((fs::path(dir) / "index.csv").string());
   const Model model{ModelParams{}};
   SimSetup setup;
@@ -71,10 +78,11 @@ std::string WriteGaitReport(const std::string& dir, const std::string& out_dir) 
        << LinePlotSvg("swing hip q_i1 against e", "e (deg)", "q_i1 (deg)", all_hip)
        << LinePlotSvg("swing knee q_i2 against e", "e (deg)", "q_i2 (deg)", all_knee);
   html << sections.str() << "</body></html>\n";
-  const std::string path = (fs::path(out_dir) / "index.html").string();
   const std::string page = html.str();
-  WriteFileAtomically(path, [&page](std::ostream& out) { out << page; });
-  return path;
+  WriteMarkedFolder(staging, out, kGaitReportMarker, "gaits-report", [&] {
+    WriteFileAtomically((staging / "index.html").string(), [&page](std::ostream& o) { o << page; });
+  });
+  return (out / "index.html").string();
 }
 
 }  // namespace rabbit

@@ -16,8 +16,10 @@
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/output_ownership.h"
 #include "rabbit/report/comparison.h"
 #include "rabbit/report/run_files.h"
+#include "rabbit/scenario/suite_inputs.h"
 
 namespace rabbit {
 namespace {
@@ -157,6 +159,8 @@ std::string PlanFingerprint(const Suite& suite, const std::vector<BatchJob>& pla
   print.Add(suite.name);
   print.Add(ReadBytes(suite.file));
   print.Add(params_path.empty() ? "" : ReadBytes(params_path));
+  // Every file the suite reads, by content (not by path: shards may run from other folders).
+  for (const InputFile& f : HashInputFiles(SuiteInputFiles(suite))) print.Add(f.sha256);
   print.Add(std::to_string(plan.size()));
   for (const BatchJob& job : plan) {
     print.Add(job.scenario->name);
@@ -321,8 +325,8 @@ MergedShards MergeShards(const std::string& dir_text,
       throw FolderError(f.folder, "was run with another plan (fingerprint " + f.info.plan + ", " +
                                       std::to_string(f.info.jobs) + " jobs) than " + other + " (" +
                                       first.plan + ", " + std::to_string(first.jobs) +
-                                      " jobs): the suite, --filter or --params differed; run "
-                                      "the odd shards again");
+                                      " jobs): the suite, its input files, --filter or --params "
+                                      "differed; run the odd shards again");
     }
   }
   const int count = first.shard.count;
@@ -390,9 +394,9 @@ MergedShards MergeShards(const std::string& dir_text,
     fs::remove_all(staging, ignored);
     throw;
   }
-  // What is left of DIR (shards/ with their markers and summaries, an earlier report) goes.
-  fs::remove_all(dir);
-  fs::rename(staging, dir);
+  // In DIR's place in one step; what is left of DIR (shards/ with their markers and summaries, an
+  // earlier report) goes.
+  ReplaceFolder(staging, dir);
   merged.suite = first.suite;
   merged.count = count;
   return merged;

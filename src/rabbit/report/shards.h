@@ -41,8 +41,8 @@ std::string ShardFolderName(const Shard& shard);
 
 // 16 hex digits hashing what decides a plan's runs: the program's version, the suite's name and
 // file (its bytes, wherever it lies), the parameter overlay's bytes (empty path: none) and the
-// runs in plan order. Shards merge only with equal fingerprints. Files the suite names (model,
-// gaits, networks) are not covered.
+// runs in plan order, and the content of every file the suite reads (SuiteInputFiles: model,
+// FLL, networks, gaits). Shards merge, and runs resume, only with equal fingerprints.
 std::string PlanFingerprint(const Suite& suite, const std::vector<BatchJob>& plan,
                             const std::string& params_path);
 

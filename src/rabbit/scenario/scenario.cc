@@ -753,7 +753,7 @@ bool IsSafeName(const std::string& name) {
   return true;
 }
 
-ModelParams ReadModelParams(TomlReader* t) {
+ModelParams ReadModelParams(TomlReader* t, std::string* file) {
   ModelParams p;
   const std::string base = t->String("file", "");
   if (!base.empty()) {
@@ -762,6 +762,7 @@ ModelParams ReadModelParams(TomlReader* t) {
       t->Fail("file", "no model file " + path.string());
     }
     p = LoadModelFile(path.string());
+    if (file != nullptr) *file = path.string();
   }
   ReadModelFields(t, &p);
   t->Finish();
@@ -829,7 +830,7 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name, const Pa
   s.required = root.Bool("required", s.required);
   s.seed = static_cast<std::uint64_t>(root.Integer("seed", 1, 0, std::numeric_limits<long>::max()));
   TomlReader model_table = root.Table("model");
-  s.model = ReadModelParams(&model_table);
+  s.model = ReadModelParams(&model_table, &s.model_file);
   ReadSimulation(root.Table("simulation"), &s);  // may switch gravity off in s.model
   s.contact = ReadContact(root.Table("contact"));
   s.actuator = ReadActuator(root.Table("actuator"));

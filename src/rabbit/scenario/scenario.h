@@ -66,6 +66,7 @@ struct Scenario {
   std::string name;
   std::string description;
   ModelParams model;
+  std::string model_file;  // the [model] file the model was read from (empty: none)
   ContactParams contact;
   ActuatorParams actuator;
   Terrain terrain;
@@ -113,8 +114,8 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name,
                       std::map<std::string, double>* settings = nullptr);
 
 // Reads a [model] table (all ModelParams fields, optionally `file = "other.toml"` whose [model]
-// table gives the base values). Validates the result.
-ModelParams ReadModelParams(TomlReader* table);
+// table gives the base values). Validates the result. With `file`, records the model file read.
+ModelParams ReadModelParams(TomlReader* table, std::string* file = nullptr);
 // Reads a model file: a TOML file with a [model] table.
 ModelParams LoadModelFile(const std::string& path);
 
