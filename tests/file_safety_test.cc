@@ -258,7 +258,7 @@ TEST_F(RefusalTest, EveryWriterRefusesWhatItDidNotMake) {
        },
        "gaits generate {d}/targets.toml --dir {d}/db -q",
        2,
-       "target 1 (line 1) and target 2",
+       "a second target named \"vm_0.50\" (the first is at line 1)",
        {"{d}/db"}},
       {"gaits report over a user's folder",
        [](RefusalTest* t) {

@@ -354,7 +354,7 @@ std::vector<Case> Cases() {
                },
                "gaits generate {D}/t.toml --dir {D}/out",
                2,
-               {"{D}/t.toml:4", "'gait[2].v_m'", "vm_0.50"},
+               {"{D}/t.toml:3", "'gait[2].name'", "vm_0.50"},
                {},
                {"{D}/out"}});
   c.push_back({"network index: q_i1 pointing at the q_i2 file",
