@@ -12,7 +12,11 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "gait_build.h"
 #include "gait_synthesis.h"
+#include "gait_targets.h"
+#include "rabbit/gait/database_layout.h"
+#include "rabbit/scenario/ranks.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
@@ -22,75 +26,59 @@
 namespace rabbit::cli {
 namespace {
 
-// Seconds of walking over which a synthesized gait is measured and recorded: at least 30 steps
-// for the slowest gaits (t_step up to 0.65 s).
-constexpr double kRecordWalk = 20.0;
-constexpr double kAcceptedVelocityError = 0.03;    // m/s
-constexpr double kAcceptedStepSpread = 0.01;       // m
-constexpr double kAcceptedStepLengthError = 0.03;  // m
+// The reference/ folder of the database `dir` names (or `dir` itself when it is one).
+std::string ReferenceFolder(const std::string& dir) {
+  if (std::filesystem::exists(std::filesystem::path(dir) / "index.csv")) return dir;
+  return ReferenceDirOf(GaitDatabaseRoot(dir));
+}
+
+struct BuildArgs {
+  std::string targets = "gaits/targets.toml";
+  std::string out;
+  int jobs = 0;
+  bool quiet = false;
+};
+
+int RunBuild(const BuildArgs& a) {
+  const GaitTargets targets = ReadGaitTargets(a.targets);
+  GaitBuildOptions options;
+  options.out = a.out;
+  options.threads = a.jobs;
+  if (!a.quiet) {
+    options.log = [](const std::string& line) {
+      std::printf("%s\n", line.c_str());
+      std::fflush(stdout);
+    };
+  }
+  const GaitBuildResult r = BuildGaitDatabase(targets, options);
+  if (!Ranks::root()) return r.exit_code();
+  for (const std::string& name : r.missed) {
+    std::fprintf(stderr, "rabbit gaits build: %s (%s) misses its criteria: nothing written for it\n",
+                 name.c_str(), a.targets.c_str());
+  }
+  for (const std::string& run : r.check_failures) {
+    std::fprintf(stderr, "rabbit gaits build: check walk %s failed\n", run.c_str());
+  }
+  if (!a.quiet) {
+    std::printf(
+        "gaits build: %zu built, %zu kept, %zu missed; %ld walks in %.1f s (%.1f walks/s); "
+        "%.1f s wall; wrote %s\n",
+        r.built.size(), r.kept.size(), r.missed.size(), r.walks, r.synthesis_seconds,
+        static_cast<double>(r.walks) / std::max(r.synthesis_seconds, 1e-9), r.wall_seconds, a.out.c_str());
+  }
+  return r.exit_code();
+}
 
 struct SynthesizeArgs {
   double v_m = 0.0;
   double l_step = 0.0;
   unsigned seed = 1;
   int budget = 1500;
-  std::string dir = "gaits/reference";
+  std::string dir = "gaits";  // database (or its reference/ folder)
   std::string name;
   bool force = false;
   bool quiet = false;
 };
-
-// Synthesizes one gait and re-walks it long enough to measure it (30+ steps); fills *record.
-bool SynthesizeOne(const SynthesisOptions& options, const std::string& name, bool quiet,
-                   GaitRecord* record) {
-  const Model model{ModelParams{}};
-  SimSetup setup;
-  setup.model = &model;
-  setup.options.record_every = 0;
-  const SynthesisResult r = SynthesizeGait(setup, options, [&](const SynthesisProgress& p) {
-    if (quiet || (p.evaluation % 25 != 0)) return;
-    std::fprintf(stderr, "  [%s %4d] best cost %.3g: %d steps, V_M %.3f m/s, L_step %.3f m\n",
-                 p.stage, p.evaluation, p.best_cost, p.best.steps, p.best.v_m, p.best.l_step);
-  });
-  // Measure the result over a longer walk (the acceptance figures: at least 30 steps, last 10).
-  SimSetup record_setup = setup;
-  record_setup.options.record_every = 1;
-  const GaitRun run = WalkGait(record_setup, r.spec, kRecordWalk, 10);
-  record->name = name;
-  record->target_v_m = options.target_v_m;
-  record->target_l_step = options.target_l_step;
-  record->measured = run.metrics;
-  record->spec = r.spec;
-  record->model_hash = ModelHash(model.params());
-  record->source = "synthesized";
-  record->seed = options.seed;
-  record->swing = AverageSwingTrajectory(run, 10, 101);
-  if (!quiet) {
-    std::printf("%s: %s after %d simulations (%.1f s, %.0f simulations/s)\n", name.c_str(),
-                r.success ? "criteria met" : "criteria NOT met", r.evaluations, r.wall_seconds,
-                r.evaluations / std::max(r.wall_seconds, 1e-9));
-    std::printf(
-        "  %d steps in %.0f s%s; last 10: V_M %.3f m/s (spread %.3f), L_step %.3f m "
-        "(spread %.4f), t_step %.3f s\n",
-        run.metrics.steps, kRecordWalk,
-        run.metrics.fell ? (" (" + run.metrics.reason + ")").c_str() : "", run.metrics.v_m,
-        run.metrics.v_m_spread, run.metrics.l_step, run.metrics.l_step_spread, run.metrics.t_step);
-  }
-  // Issue 3's acceptance on the recorded walk: 30 steps, the last 10 within 0.03 m/s of the
-  // target, L_step varying by less than 1 cm (and within 0.03 m of a requested step length).
-  const GaitMetrics& m = run.metrics;
-  return r.success && !m.fell && m.steps >= 30 && !record->swing.empty() &&
-         std::abs(m.v_m - options.target_v_m) <= kAcceptedVelocityError &&
-         m.l_step_spread < kAcceptedStepSpread &&
-         (options.target_l_step <= 0.0 ||
-          std::abs(m.l_step - options.target_l_step) <= kAcceptedStepLengthError);
-}
-
-std::string DefaultName(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "vm_%.2f", v);
-  return buffer;
-}
 
 int RunSynthesize(const SynthesizeArgs& a) {
   SynthesisOptions options;
@@ -104,25 +92,26 @@ int RunSynthesize(const SynthesizeArgs& a) {
     return 2;
   }
   GaitRecord record;
-  const std::string name = a.name.empty() ? DefaultName(a.v_m) : a.name;
+  const std::string name = a.name.empty() ? DefaultGaitName(a.v_m) : a.name;
   if (!IsSafeName(name)) {
     std::cerr << "rabbit gaits synthesize: --name: use letters, digits, '.', '_' and '-' only\n";
     return 2;
   }
-  const bool ok = SynthesizeOne(options, name, a.quiet, &record);
+  const bool ok = SynthesizeReferenceGait(options, ModelParams{}, name, a.quiet, &record);
   if (record.swing.empty() || (!ok && !a.force)) {
     std::cerr << "rabbit gaits synthesize: the gait misses the criteria; nothing written (--force "
                  "stores it anyway)\n";
     return 1;
   }
-  const std::string path = AddGaitToDatabase(record, a.dir);
-  if (!a.quiet) std::printf("wrote %s and %s/index.csv\n", path.c_str(), a.dir.c_str());
+  const std::string reference = ReferenceFolder(a.dir);
+  const std::string path = AddGaitToDatabase(record, reference);
+  if (!a.quiet) std::printf("wrote %s and %s/index.csv\n", path.c_str(), reference.c_str());
   return ok ? 0 : 1;
 }
 
 struct GenerateArgs {
   std::string config;
-  std::string dir = "gaits/reference";
+  std::string dir = "gaits";
   int jobs = 0;
   bool force = false;
   bool quiet = false;
@@ -141,46 +130,19 @@ std::vector<SynthesisOptions> DefaultTargets() {
   return out;
 }
 
-// A `bounds` table: `name = [lower, upper]` for any of kSynthesisParamNames, over *bounds.
-void ReadBounds(TomlReader& t, std::array<std::pair<double, double>, kSynthesisParams>* bounds) {
-  if (!t.Has("bounds")) return;
-  TomlReader b = t.Table("bounds");
-  for (int i = 0; i < kSynthesisParams; ++i) {
-    const char* name = kSynthesisParamNames[i];
-    if (!b.Has(name)) continue;
-    const std::vector<double> v = b.Doubles(name, {}, 2);
-    if (!(v[0] < v[1])) b.Fail(name, "need [lower, upper] with lower < upper");
-    (*bounds)[i] = {v[0], v[1]};
-  }
-  b.Finish();
-}
-
-std::vector<SynthesisOptions> ReadTargets(const std::string& path) {
-  TomlReader root = TomlReader::ParseFile(path);
-  std::array<std::pair<double, double>, kSynthesisParams> common = DefaultSynthesisBounds();
-  ReadBounds(root, &common);
-  std::vector<SynthesisOptions> out;
-  for (TomlReader& t : root.TableArray("gait")) {
-    SynthesisOptions o;
-    o.bounds = common;
-    ReadBounds(t, &o.bounds);
-    o.target_v_m = t.RequiredDouble("v_m");
-    o.target_l_step = t.Double("l_step", 0.0);
-    o.seed = static_cast<unsigned>(t.Integer("seed", o.seed, 0, 4294967295L));
-    o.budget = static_cast<int>(t.Integer("budget", o.budget, 1, 1000000));
-    t.Finish();
-    std::string error;
-    if (!o.IsValid(&error)) t.Fail("", error);
-    out.push_back(o);
-  }
-  root.Finish();
-  if (out.empty()) root.Fail("gait", "no [[gait]] targets");
-  return out;
-}
-
 int RunGenerate(const GenerateArgs& a) {
-  const std::vector<SynthesisOptions> targets =
-      a.config.empty() ? DefaultTargets() : ReadTargets(a.config);
+  std::vector<SynthesisOptions> targets;
+  std::vector<std::string> names;
+  if (a.config.empty()) {
+    targets = DefaultTargets();
+    for (const SynthesisOptions& t : targets) names.push_back(DefaultGaitName(t.target_v_m));
+  } else {
+    for (const GaitTarget& t : ReadGaitTargets(a.config).gaits) {
+      targets.push_back(t.synthesis);
+      names.push_back(t.name);
+    }
+  }
+  const std::string reference = ReferenceFolder(a.dir);
   std::vector<GaitRecord> records(targets.size());
   std::vector<char> ok(targets.size(), 0);
   std::vector<std::string> errors(targets.size());
@@ -194,7 +156,7 @@ int RunGenerate(const GenerateArgs& a) {
       GaitRecord record;
       bool met = false;
       try {
-        met = SynthesizeOne(targets[i], DefaultName(targets[i].target_v_m), true, &record);
+        met = SynthesizeReferenceGait(targets[i], ModelParams{}, names[i], true, &record);
       } catch (const std::exception& e) {  // kept per target; the others go on
         errors[i] = e.what();
       }
@@ -222,11 +184,11 @@ int RunGenerate(const GenerateArgs& a) {
     failures += ok[i] ? 0 : 1;
     // A gait that misses the criteria never replaces a stored one, unless --force.
     if (records[i].swing.empty() || (!ok[i] && !a.force)) continue;
-    AddGaitToDatabase(records[i], a.dir);
+    AddGaitToDatabase(records[i], reference);
   }
   if (!a.quiet) {
     std::printf("generated %zu gaits in %s (%.1f s wall, %d jobs); %d missed the criteria\n",
-                records.size(), a.dir.c_str(),
+                records.size(), reference.c_str(),
                 std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(),
                 jobs, failures);
   }
@@ -235,7 +197,7 @@ int RunGenerate(const GenerateArgs& a) {
 
 int RunList(const std::string& dir) {
   const std::vector<GaitIndexEntry> entries =
-      ReadGaitIndex((std::filesystem::path(dir) / "index.csv").string());
+      ReadGaitIndex((std::filesystem::path(ReferenceFolder(dir)) / "index.csv").string());
   std::printf("%-10s %9s %9s %9s %8s %6s  %s\n", "name", "target", "V_M m/s", "L_step m",
               "t_step s", "steps", "source");
   for (const GaitIndexEntry& e : entries) {
@@ -248,7 +210,7 @@ int RunList(const std::string& dir) {
 }  // namespace
 
 Command RegisterGaits(CLI::App* app) {
-  CLI::App* gaits = app->add_subcommand("gaits", "Reference gaits: synthesize, generate, list");
+  CLI::App* gaits = app->add_subcommand("gaits", "Reference gaits: build, synthesize, generate, list, report");
   gaits->require_subcommand(1);
   auto synth = std::make_shared<SynthesizeArgs>();
   CLI::App* s = gaits->add_subcommand(
@@ -257,7 +219,8 @@ Command RegisterGaits(CLI::App* app) {
   s->add_option("--lstep", synth->l_step, "Target step length, m (default: none)");
   s->add_option("--seed", synth->seed, "Seed of the global stage");
   s->add_option("--budget", synth->budget, "Simulations at most")->check(CLI::Range(1, 1000000));
-  s->add_option("--dir", synth->dir, "Gait database directory");
+  s->add_option("--gaits", synth->dir, "Gait database to add the gait to (default gaits)");
+  s->add_option("--dir", synth->dir, "Same as --gaits")->group("");
   s->add_option("--name", synth->name, "Gait name (default vm_<V>)");
   s->add_flag("--force", synth->force, "Store the gait even if it misses the criteria");
   s->add_flag("--quiet,-q", synth->quiet, "No progress output");
@@ -265,28 +228,42 @@ Command RegisterGaits(CLI::App* app) {
   CLI::App* g = gaits->add_subcommand(
       "generate", "Regenerate the reference database: the five gaits of Table 2, or a config's");
   g->add_option("config", gen->config, "TOML with [[gait]] v_m, l_step, seed, budget");
-  g->add_option("--dir", gen->dir, "Gait database directory");
+  g->add_option("--gaits", gen->dir, "Gait database to add the gaits to (default gaits)");
+  g->add_option("--dir", gen->dir, "Same as --gaits")->group("");
   g->add_option("--jobs", gen->jobs, "Parallel searches (default: all cores)")
       ->check(CLI::Range(1, 1024));
   g->add_flag("--quiet,-q", gen->quiet, "No progress output");
   g->add_flag("--force", gen->force, "Store gaits even if they miss the criteria");
-  auto report_dir = std::make_shared<std::string>("gaits/reference");
+  auto report_dir = std::make_shared<std::string>("gaits");
   auto report_out = std::make_shared<std::string>("reports/gaits");
   CLI::App* r = gaits->add_subcommand(
       "report", "Stick diagrams and swing trajectories of a database's gaits (HTML)");
-  r->add_option("--dir", *report_dir, "Gait database directory");
+  r->add_option("--gaits", *report_dir, "Gait database (default gaits)");
+  r->add_option("--dir", *report_dir, "Same as --gaits")->group("");
   r->add_option("--out", *report_out, "Report directory");
-  auto list_dir = std::make_shared<std::string>("gaits/reference");
+  auto list_dir = std::make_shared<std::string>("gaits");
   CLI::App* l = gaits->add_subcommand("list", "List the gaits of a database");
-  l->add_option("--dir", *list_dir, "Gait database directory");
+  l->add_option("--gaits", *list_dir, "Gait database (default gaits)");
+  l->add_option("--dir", *list_dir, "Same as --gaits")->group("");
+  auto build = std::make_shared<BuildArgs>();
+  CLI::App* b = gaits->add_subcommand(
+      "build", "Build a whole gait database from a targets file (synthesis, networks, FLL, manifest)");
+  b->add_option("targets", build->targets, "Targets file (TOML; default gaits/targets.toml)");
+  b->add_option("--out", build->out, "Database folder: new, empty, or a database to resume")
+      ->required();
+  b->add_option("--jobs,-j", build->jobs, "Threads per process (default: all cores)")
+      ->check(CLI::Range(0, 1024));
+  b->add_flag("--quiet,-q", build->quiet, "No progress output");
   return {gaits, [=] {
             if (s->parsed()) return RunSynthesize(*synth);
             if (g->parsed()) return RunGenerate(*gen);
             if (r->parsed()) {
-              std::printf("wrote %s\n", WriteGaitReport(*report_dir, *report_out).c_str());
+              std::printf("wrote %s\n",
+                          WriteGaitReport(ReferenceFolder(*report_dir), *report_out).c_str());
               return 0;
             }
             if (l->parsed()) return RunList(*list_dir);
+            if (b->parsed()) return RunBuild(*build);
             return 2;
           }};
 }

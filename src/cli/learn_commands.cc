@@ -11,7 +11,8 @@
 #include <string>
 
 #include "cli/commands.h"
-#include "cmac_fit.h"
+#include "network_training.h"
+#include "rabbit/gait/database_layout.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
 #include "rabbit/learn/cmac_training.h"
@@ -26,8 +27,8 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 
 struct TrainArgs {
-  std::string gaits = "gaits/reference";
-  std::string out = "gaits/networks";
+  std::string gaits = "gaits";  // database (or its reference/ folder)
+  std::string out;              // default: the database's networks/
   std::string method = "ceres";
   double beta = 0.5;
   int epochs = 400;
@@ -36,37 +37,31 @@ struct TrainArgs {
   bool compare = false;
 };
 
-// Fits one CMAC with the named method; returns seconds taken.
-double Fit(const std::string& method, const TrainArgs& a, const std::vector<double>& x,
-           const std::vector<double>& y, Cmac* cmac) {
-  const auto start = std::chrono::steady_clock::now();
-  if (method == "lms") {
-    LmsOptions lms;
-    lms.beta = a.beta;
-    lms.epochs = a.epochs;
-    TrainCmacLms(x, y, lms, cmac);
-  } else {
-    CmacFitOptions fit;
-    fit.smoothness = a.smoothness;
-    FitCmacCeres(x, y, fit, cmac);
-  }
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 int RunTrain(const TrainArgs& a) {
   namespace fs = std::filesystem;
-  if (!(a.beta > 0.0 && a.beta <= 1.0) || a.epochs < 1 || a.epochs > 1000000 ||
-      !(a.smoothness >= 0.0 && a.smoothness <= 1e6)) {
-    std::cerr << "rabbit train: need 0 < beta <= 1, 1 <= epochs <= 1e6, 0 <= smoothness <= 1e6\n";
+  NetworkTrainingOptions training;
+  training.method = a.method;
+  training.beta = a.beta;
+  training.epochs = a.epochs;
+  training.smoothness = a.smoothness;
+  training.margin_deg = a.margin_deg;
+  std::string error;
+  if (!training.IsValid(&error)) {
+    std::cerr << "rabbit train: " << error << "\n";
     return 2;
   }
+  // --gaits names a database (its reference/ folder is read, its networks/ written) or, as
+  // before databases had a root, a reference folder.
+  const std::string root = GaitDatabaseRoot(a.gaits);
+  const std::string reference =
+      fs::exists(fs::path(a.gaits) / "index.csv") ? a.gaits : ReferenceDirOf(root);
+  const std::string out_dir = a.out.empty() ? NetworksDirOf(root) : a.out;
   const std::vector<GaitIndexEntry> index =
-      ReadGaitIndex((fs::path(a.gaits) / "index.csv").string());
+      ReadGaitIndex((fs::path(reference) / "index.csv").string());
   std::vector<GaitRecord> gaits;
-  double e_min = std::numeric_limits<double>::infinity(), e_max = -e_min;
   std::set<std::string> names;
   for (const GaitIndexEntry& entry : index) {
-    const std::string path = (fs::path(a.gaits) / entry.file).string();
+    const std::string path = (fs::path(reference) / entry.file).string();
     gaits.push_back(ReadGaitFile(path));
     // The gait's name becomes file names: it must be safe and unique.
     if (!IsSafeName(gaits.back().name) || !names.insert(gaits.back().name).second) {
@@ -74,73 +69,45 @@ int RunTrain(const TrainArgs& a) {
                        "gait names must be unique and use letters, digits, '.', "
                        "'_' and '-' only");
     }
-    for (const SwingSample& s : gaits.back().swing) {
-      e_min = std::min(e_min, s.e);
-      e_max = std::max(e_max, s.e);
-    }
   }
   if (gaits.empty()) {
-    std::cerr << "rabbit train: no gaits in " << a.gaits << "\n";
+    std::cerr << "rabbit train: no gaits in " << reference << "\n";
     return 2;
   }
-  // One structure for every CMAC (the chapter's: 6 layers, 1.5 deg fields, 0.25 deg quanta), over
-  // the e range of all the gaits plus a margin.
-  CmacOptions options;
-  options.x_min = e_min - a.margin_deg * kDeg;
-  options.x_max = e_max + a.margin_deg * kDeg;
-  // Everything is fitted first, then written into a staging directory that replaces --out at the
-  // end: a failure leaves the old networks whole.
-  struct Fitted {
-    Cmac cmac;
-    std::string file;
-    std::map<std::string, std::string> metadata;
-  };
-  std::vector<Fitted> fitted;
-  std::vector<NetworkIndexEntry> entries;
+  // Everything is fitted first, then written into a staging directory that replaces the
+  // networks folder at the end: a failure leaves the old networks whole.
+  const std::vector<TrainedNetwork> fitted = TrainGaitNetworks(gaits, training);
   std::printf("%-8s %-6s %8s %12s %10s", "gait", "output", "method", "RMS", "time ms");
   if (a.compare) std::printf("   (other method: RMS, time ms)");
   std::printf("\n");
-  for (const GaitRecord& g : gaits) {
-    std::vector<double> x;
-    std::array<std::vector<double>, kGaitOutputs> y;
-    SplitSwing(g.swing, &x, &y);
-    for (int o = 0; o < kGaitOutputs; ++o) {
-      Cmac cmac(options);
-      const double seconds = Fit(a.method, a, x, y[o], &cmac);
-      const double rms = CmacRmsError(cmac, x, y[o]);
-      const bool angle = o < 2;
-      std::printf("%-8s %-6s %8s %9.4f %s %10.2f", g.name.c_str(), kGaitOutputNames[o],
-                  a.method.c_str(), rms / kDeg, angle ? "deg  " : "deg/s", seconds * 1e3);
-      if (a.compare) {
-        const std::string other = a.method == "lms" ? "ceres" : "lms";
-        Cmac check(options);
-        const double other_seconds = Fit(other, a, x, y[o], &check);
-        std::printf("   (%s: %.4f, %.2f)", other.c_str(), CmacRmsError(check, x, y[o]) / kDeg,
-                    other_seconds * 1e3);
-      }
-      std::printf("\n");
-      const std::string file = g.name + "_" + kGaitOutputNames[o] + ".csv";
-      fitted.push_back({cmac,
-                        file,
-                        {{"gait", g.name},
-                         {"output", kGaitOutputNames[o]},
-                         {"method", a.method},
-                         {"training_rms", std::to_string(rms)}}});
-      entries.push_back({g.name, kGaitOutputNames[o], file, a.method, rms,
-                         static_cast<int>(cmac.weights().size())});
+  const CmacOptions structure = NetworkStructure(gaits, a.margin_deg);
+  for (size_t i = 0; i < fitted.size(); ++i) {
+    const TrainedNetwork& n = fitted[i];
+    const int o = static_cast<int>(i % kGaitOutputs);
+    const bool angle = o < 2;
+    std::printf("%-8s %-6s %8s %9.4f %s %10.2f", n.entry.gait.c_str(), n.entry.output.c_str(),
+                a.method.c_str(), n.entry.rms / kDeg, angle ? "deg  " : "deg/s", n.seconds * 1e3);
+    if (a.compare) {
+      std::vector<double> x;
+      std::array<std::vector<double>, kGaitOutputs> y;
+      SplitSwing(gaits[i / kGaitOutputs].swing, &x, &y);
+      const std::string other = a.method == "lms" ? "ceres" : "lms";
+      Cmac check(structure);
+      const double other_seconds = FitNetwork(other, training, x, y[o], &check);
+      std::printf("   (%s: %.4f, %.2f)", other.c_str(), CmacRmsError(check, x, y[o]) / kDeg,
+                  other_seconds * 1e3);
     }
+    std::printf("\n");
   }
-  const fs::path out(a.out);
+  const fs::path out(out_dir);
   const fs::path staging = out.string() + ".staging", old = out.string() + ".old";
   fs::remove_all(staging);
-  fs::create_directories(staging);
-  for (const Fitted& f : fitted) WriteCmacFile(f.cmac, f.metadata, (staging / f.file).string());
-  WriteNetworkIndex(entries, (staging / "index.csv").string());
+  WriteGaitNetworks(fitted, staging.string());
   fs::remove_all(old);
   if (fs::exists(out)) fs::rename(out, old);
   fs::rename(staging, out);
   fs::remove_all(old);
-  std::printf("wrote %zu networks to %s\n", entries.size(), a.out.c_str());
+  std::printf("wrote %zu networks to %s\n", fitted.size(), out_dir.c_str());
   return 0;
 }
 
@@ -208,28 +175,15 @@ int RunFisEval(const FisArgs& a) {
   return 0;
 }
 
-// Writes the default gait pattern (Table 3 generalised to the database's N_r gaits, V_M sets at
-// their measured velocities) for a gait database.
-int RunFisGenerate(const std::string& gaits_dir, const std::string& out) {
+// Writes the default gait pattern for a gait database (WriteDefaultGaitPattern).
+int RunFisGenerate(const std::string& gaits_dir, const std::string& out_arg) {
   namespace fs = std::filesystem;
-  const std::string index_path = (fs::path(gaits_dir) / "index.csv").string();
-  const std::vector<GaitIndexEntry> index = ReadGaitIndex(index_path);
-  std::vector<double> v;
-  for (const GaitIndexEntry& e : index) {
-    if (!v.empty() && !(e.measured_v_m > v.back())) {
-      throw InputError(
-          index_path, 0, "measured_v_m",
-          "the gaits must be listed by strictly increasing measured velocity (" + e.name + ")");
-    }
-    v.push_back(e.measured_v_m);
-  }
-  if (v.size() < 2 || v.size() > kMaxGaitPatternGaits) {
-    throw InputError(index_path, 0, "",
-                     "the gait pattern needs 2 to " + std::to_string(kMaxGaitPatternGaits) +
-                         " reference gaits, found " + std::to_string(v.size()));
-  }
-  SaveFll(DefaultGaitPattern(v), out, DefaultGaitPatternComment(v));
-  std::printf("wrote %s: N_r = %zu gaits, %zu rules\n", out.c_str(), v.size(), 5 * v.size());
+  const std::string root = GaitDatabaseRoot(gaits_dir);
+  const std::string reference =
+      fs::exists(fs::path(gaits_dir) / "index.csv") ? gaits_dir : ReferenceDirOf(root);
+  const std::string out = out_arg.empty() ? GaitPatternOf(root) : out_arg;
+  const size_t n = WriteDefaultGaitPattern(reference, out);
+  std::printf("wrote %s: N_r = %zu gaits, %zu rules\n", out.c_str(), n, 5 * n);
   return 0;
 }
 
@@ -238,8 +192,9 @@ int RunFisGenerate(const std::string& gaits_dir, const std::string& out) {
 Command RegisterTrain(CLI::App* app) {
   auto a = std::make_shared<TrainArgs>();
   CLI::App* cmd = app->add_subcommand("train", "Train the CMACs of every reference gait");
-  cmd->add_option("--gaits", a->gaits, "Gait database directory");
-  cmd->add_option("--out", a->out, "Networks directory");
+  cmd->add_option("--gaits", a->gaits, "Gait database (default gaits)");
+  cmd->add_option("--dir", a->gaits, "Same as --gaits")->group("");
+  cmd->add_option("--out", a->out, "Networks directory (default: the database's networks/)");
   cmd->add_option("--method", a->method, "ceres (sparse least squares) or lms (eq. 7)")
       ->check(CLI::IsMember({"ceres", "lms"}));
   cmd->add_option("--beta", a->beta, "LMS learning rate (0, 1]");
@@ -260,12 +215,13 @@ Command RegisterFis(CLI::App* app) {
   CLI::Option* e =
       eval->add_option("--e-deg", a->e, "Stance hip angle e, deg: print the merged references");
   eval->add_option("--networks", a->networks, "Networks directory (with --e)");
-  auto gen_gaits = std::make_shared<std::string>("gaits/reference");
-  auto gen_out = std::make_shared<std::string>("gaits/gait_pattern.fll");
+  auto gen_gaits = std::make_shared<std::string>("gaits");
+  auto gen_out = std::make_shared<std::string>();
   CLI::App* gen = fis->add_subcommand(
       "generate", "Write the default gait pattern (Table 3 generalised) for a gait database");
-  gen->add_option("--gaits", *gen_gaits, "Gait database directory");
-  gen->add_option("--out", *gen_out, "FLL file to write");
+  gen->add_option("--gaits", *gen_gaits, "Gait database (default gaits)");
+  gen->add_option("--dir", *gen_gaits, "Same as --gaits")->group("");
+  gen->add_option("--out", *gen_out, "FLL file to write (default: the database's)");
   return {fis, [a, e, gen, gen_gaits, gen_out] {
             if (gen->parsed()) return RunFisGenerate(*gen_gaits, *gen_out);
             a->has_e = e->count() > 0;

@@ -29,6 +29,7 @@
 #include <vector>
 
 #include "cli/commands.h"
+#include "rabbit/gait/database_layout.h"
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/error.h"
 #include "rabbit/report/comparison.h"
@@ -54,6 +55,7 @@ struct RunArgs {
   int jobs = 0;
   std::string filter;
   std::string params;
+  std::string gaits;  // a gait database replacing every walker scenario's
   std::string shard_text;
   bool resume = false;
   bool quiet = false;
@@ -403,6 +405,7 @@ int RunRun(RunArgs args) {
   RunAgreed([&] {
     ParamOverlay overlay;
     if (!args.params.empty()) overlay = LoadParamOverlay(args.params);
+    if (!args.gaits.empty()) overlay.gait_database = GaitDatabaseRoot(args.gaits);
     for (const std::string& path : args.suites) suites.push_back(LoadSuite(path, &overlay));
     for (const Suite& s : suites) {
       plans.push_back(PlanBatch(s, args.filter));
@@ -527,6 +530,9 @@ Command RegisterRun(CLI::App* app) {
   cmd->add_option("--params", args->params,
                   "Parameter overlay (TOML [params], e.g. a tuning job's best.toml) over every "
                   "scenario's settings");
+  cmd->add_option("--gaits", args->gaits,
+                  "Gait database (folder with reference/, networks/, walker.csv) for every walker "
+                  "scenario, instead of the one each names");
   cmd->add_option("--shard", args->shard_text,
                   "Run only shard I of N (e.g. 2/8): the jobs i of each suite with i mod N = I-1, "
                   "into DIR/shards/I-of-N/; rabbit report DIR merges the N shards");

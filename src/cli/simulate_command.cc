@@ -6,6 +6,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "rabbit/gait/database_layout.h"
 #include "rabbit/io/error.h"
 #include "rabbit/model/model.h"
 #include "rabbit/scenario/run.h"
@@ -23,6 +24,7 @@ struct SimulateArgs {
   std::string out;
   std::string integrator;
   std::string params;
+  std::string gaits;
   bool quiet = false;
 };
 
@@ -33,6 +35,7 @@ int RunSimulate(const SimulateArgs& args) {
   }
   ParamOverlay overlay;
   if (!args.params.empty()) overlay = LoadParamOverlay(args.params);
+  if (!args.gaits.empty()) overlay.gait_database = GaitDatabaseRoot(args.gaits);
   Scenario scenario = LoadScenario(args.scenario, &overlay);
   if (!args.integrator.empty()) {
     ParseIntegratorName(args.integrator, &scenario.options.integrator.kind);  // checked by CLI11
@@ -100,6 +103,7 @@ Command RegisterSimulate(CLI::App* app) {
   cmd->add_option("--params", args->params,
                   "Parameter overlay (TOML [params], e.g. a tuning job's best.toml) over the "
                   "scenario's settings");
+  cmd->add_option("--gaits", args->gaits, "Gait database for a walker scenario (folder)");
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but errors");
   return {cmd, [args] { return RunSimulate(*args); }};
 }

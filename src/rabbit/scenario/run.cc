@@ -226,6 +226,17 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     for (const GaitRecord& g : library->gaits) params.gait_rules.push_back(g.spec.rules);
     params.gait_l_steps.clear();
     for (const GaitRecord& g : library->gaits) params.gait_l_steps.push_back(g.measured.l_step);
+    // The database's per-gait settings, in the gait pattern's order (all 0: none, the chapter's
+    // walker).
+    params.rule_share.clear();
+    bool any_share = false;
+    for (const std::string& name : library->gait_names) {
+      const auto found = scenario.gait_settings.find(name);
+      const double share = found == scenario.gait_settings.end() ? 0.0 : found->second.rule_share;
+      params.rule_share.push_back(share);
+      any_share = any_share || share != 0.0;
+    }
+    if (!any_share) params.rule_share.clear();
     std::unique_ptr<SwingPattern> pattern;
     if (variant == "multi_cmac") {
       // The pure multi-input CMAC pattern: it has no per-gait weights to share the gaits' own

@@ -10,6 +10,7 @@
 #include <utility>
 
 #include "rabbit/gait/gait_database.h"
+#include "rabbit/gait/walker_settings.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/learn/fll.h"
@@ -551,12 +552,29 @@ void ReadRecovery(TomlReader r, RecoveryParams* p) {
 
 // type = "fuzzy_cmac": the chapter's walker (see FuzzyCmacWalker). Reads the gait database to
 // choose the start gait; the walk starts from its documented walking start.
-void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
+// The gait database (`database`, default the shipped one beside the scenario folder) gives the
+// gait pattern's files and the per-gait walker settings; `fll`, `networks` and `gaits` may name
+// other files for one part. A database override (`rabbit run --gaits DIR`) replaces all of them.
+void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_override) {
+  namespace fs = std::filesystem;
   s->controller = ControllerKind::kFuzzyCmac;
   GaitPatternFiles& f = s->pattern;
-  f.fll = ResolvePath(*t, t->String("fll", "../gaits/gait_pattern.fll"));
-  f.networks = ResolvePath(*t, t->String("networks", "../gaits/networks"));
-  f.gaits = ResolvePath(*t, t->String("gaits", "../gaits/reference"));
+  const std::string database = ResolvePath(*t, t->String("database", "../gaits"));
+  const std::string fll = t->String("fll", "");
+  const std::string networks = t->String("networks", "");
+  const std::string gaits = t->String("gaits", "");
+  if (!database_override.empty()) {
+    f.database = database_override;
+    f.fll = (fs::path(f.database) / "gait_pattern.fll").string();
+    f.networks = (fs::path(f.database) / "networks").string();
+    f.gaits = (fs::path(f.database) / "reference").string();
+  } else {
+    f.database = database;
+    f.fll = fll.empty() ? (fs::path(database) / "gait_pattern.fll").string() : ResolvePath(*t, fll);
+    f.networks = networks.empty() ? (fs::path(database) / "networks").string()
+                                  : ResolvePath(*t, networks);
+    f.gaits = gaits.empty() ? (fs::path(database) / "reference").string() : ResolvePath(*t, gaits);
+  }
   ReadMembershipSets(t->Table("sets"), *CachedFll(f.fll), s);
   const std::vector<GaitIndexEntry> index =
       ReadGaitIndex((std::filesystem::path(f.gaits) / "index.csv").string());
@@ -601,10 +619,23 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
   w.v_m_average_steps =
       static_cast<int>(t->Integer("v_m_average_steps", w.v_m_average_steps, 1, 100));
   w.fis_v_lead = t->Double("fis_v_lead", w.fis_v_lead);
-  w.rule_share = t->Doubles("rule_share", w.rule_share);
-  if (!w.rule_share.empty() && w.rule_share.size() != index.size()) {
-    t->Fail("rule_share", "expected one factor per reference gait (" +
-                              std::to_string(index.size()) + " in " + f.gaits + ")");
+  if (t->Has("rule_share")) {
+    t->Fail("rule_share",
+            "per-gait settings are no longer given in a scenario: the rule share of each gait "
+            "is the rule_share column of the gait database's walker.csv (" +
+                (fs::path(f.database) / kWalkerSettingsFile).string() +
+                "; docs/gait-database.md); remove this key");
+  }
+  // Per-gait settings by name, checked here so that a bad file fails the load (exit 2).
+  s->gait_settings = ReadDatabaseWalkerSettings(f.database);
+  for (const auto& [name, settings] : s->gait_settings) {
+    const bool listed = std::any_of(index.begin(), index.end(),
+                                    [&](const GaitIndexEntry& e) { return e.name == name; });
+    if (!listed) {
+      throw InputError((fs::path(f.database) / kWalkerSettingsFile).string(), 0, name,
+                       "walker settings for gait \"" + name + "\", which " + f.gaits +
+                           "/index.csv does not list");
+    }
   }
   w.d_obs_max = t->Double("d_obs_max", w.d_obs_max);
   w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
@@ -758,9 +789,12 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name, const Pa
     *settings = std::move(*observed);
     return s;
   }
+  const std::string database_override = overlay != nullptr ? overlay->gait_database : "";
   if (overlay != nullptr && !overlay->empty()) {
     TomlReader patched = root.WithPatches(overlay->Patches());
-    Scenario s = ReadScenario(patched, default_name, nullptr);
+    ParamOverlay database_only;
+    database_only.gait_database = database_override;
+    Scenario s = ReadScenario(patched, default_name, &database_only);
     const std::vector<std::string> unused = patched.UnusedPatches();
     if (!unused.empty()) {
       overlay->Fail(unused.front(), "names no numeric setting of scenario \"" + s.name + "\" (" +
@@ -823,7 +857,7 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name, const Pa
       if (!root.Has("velocity")) {
         root.Fail("velocity", "the fuzzy_cmac controller needs a [velocity] profile");
       }
-      ReadFuzzyCmac(&controller, &s);
+      ReadFuzzyCmac(&controller, &s, database_override);
     }
     // The walk starts from the documented walking start: [initial] takes no keys.
     TomlReader initial = root.Table("initial");
