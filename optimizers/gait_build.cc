@@ -137,8 +137,8 @@ struct SynthesisOutcome {
 std::string Encode(const std::vector<SynthesisOutcome>& outcomes) {
   std::string s;
   for (const SynthesisOutcome& o : outcomes) {
-    s += std::to_string(o.index) + " " + (o.met ? "1" : "0") + " " + std::to_string(o.walks) +
-         " " + std::to_string(o.text.size()) + "\n" + o.text;
+    s += std::to_string(o.index) + " " + (o.met ? "1" : "0") + " " + std::to_string(o.walks) + " " +
+         std::to_string(o.text.size()) + "\n" + o.text;
   }
   return s;
 }
@@ -163,8 +163,7 @@ std::vector<SynthesisOutcome> Decode(const std::string& s) {
 }  // namespace
 
 bool SynthesizeReferenceGait(const SynthesisOptions& options, const ModelParams& params,
-                             const std::string& name, bool quiet, GaitRecord* record,
-                             int* walks) {
+                             const std::string& name, bool quiet, GaitRecord* record, int* walks) {
   const Model model{params};
   SimSetup setup;
   setup.model = &model;
@@ -218,9 +217,9 @@ std::string SimulatorSettingsText() {
     << ExactNumber(c.lambda_g) << ' ' << ExactNumber(c.mu_g) << ' '
     << ExactNumber(c.resume_fraction) << "\nactuator " << ExactNumber(a.max_torque) << ' '
     << ExactNumber(a.max_power) << ' ' << ExactNumber(a.full_torque_speed) << ' '
-    << ExactNumber(a.max_speed) << ' ' << a.enabled << "\noptions "
-    << ExactNumber(o.control_period) << ' ' << o.contact << ' ' << o.restart_at_samples << ' '
-    << o.max_events_per_period << "\nintegrator " << static_cast<int>(o.integrator.kind) << ' '
+    << ExactNumber(a.max_speed) << ' ' << a.enabled << "\noptions " << ExactNumber(o.control_period)
+    << ' ' << o.contact << ' ' << o.restart_at_samples << ' ' << o.max_events_per_period
+    << "\nintegrator " << static_cast<int>(o.integrator.kind) << ' '
     << ExactNumber(o.integrator.rtol) << ' ' << ExactNumber(o.integrator.atol) << ' '
     << ExactNumber(o.integrator.max_step) << ' ' << o.integrator.max_steps_per_call << ' '
     << o.integrator.order << "\nfall " << ExactNumber(o.fall.min_hip_height) << ' '
@@ -257,9 +256,9 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
   std::vector<char> kept(targets.gaits.size(), 0);
   for (size_t i = 0; i < targets.gaits.size(); ++i) {
     const auto found = old_gaits.find(targets.gaits[i].name);
-    kept[i] = existing && found != old_gaits.end() && found->second->inputs_sha256 == inputs[i] &&
-              found->second->file == std::string(kReferenceDir) + "/" + targets.gaits[i].name +
-                                         ".csv";
+    kept[i] =
+        existing && found != old_gaits.end() && found->second->inputs_sha256 == inputs[i] &&
+        found->second->file == std::string(kReferenceDir) + "/" + targets.gaits[i].name + ".csv";
     if (kept[i]) {
       result.kept.push_back(targets.gaits[i].name);
     } else {
@@ -287,8 +286,8 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
         SynthesisOutcome& o = outcomes[k];
         o.index = mine[k];
         try {
-          o.met = SynthesizeReferenceGait(g.synthesis, targets.model, g.name, true, &record,
-                                          &o.walks);
+          o.met =
+              SynthesizeReferenceGait(g.synthesis, targets.model, g.name, true, &record, &o.walks);
           if (!record.swing.empty()) o.text = GaitFileText(record);
         } catch (const std::exception& e) {
           errors[k] = e.what();
@@ -313,7 +312,8 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
     for (std::thread& t : pool) t.join();
   }
   for (size_t k = 0; k < mine.size(); ++k) {
-    if (!errors[k].empty()) throw std::runtime_error(targets.gaits[mine[k]].name + ": " + errors[k]);
+    if (!errors[k].empty())
+      throw std::runtime_error(targets.gaits[mine[k]].name + ": " + errors[k]);
   }
   // Gather every rank's outcomes on rank 0.
   std::vector<SynthesisOutcome> all;

@@ -38,7 +38,7 @@ struct GaitBuildOptions {
 
 struct GaitBuildResult {
   std::vector<std::string> built, kept, missed, check_failures;
-  long walks = 0;             // simulations of the synthesis, over all ranks
+  long walks = 0;  // simulations of the synthesis, over all ranks
   double synthesis_seconds = 0.0;
   double wall_seconds = 0.0;
   // 0 all built and checked; 1 a target missed its criteria (nothing written for it) or a check

@@ -29,8 +29,8 @@ std::string ManifestText(const Manifest& m) {
   out << "# simulator_sha256 = " << m.simulator_sha256 << "\n";
   out << "kind,name,file,sha256,seed,inputs_sha256\n";
   for (const ManifestRow& r : m.rows) {
-    out << r.kind << ',' << FormatCsvCell(r.name) << ',' << FormatCsvCell(r.file) << ','
-        << r.sha256 << ',' << r.seed << ',' << r.inputs_sha256 << "\n";
+    out << r.kind << ',' << FormatCsvCell(r.name) << ',' << FormatCsvCell(r.file) << ',' << r.sha256
+        << ',' << r.seed << ',' << r.inputs_sha256 << "\n";
   }
   return out.str();
 }
@@ -72,7 +72,8 @@ Manifest ReadManifest(const std::string& path) {
     table += line + "\n";
   }
   if (!format_seen) {
-    throw InputError(path, 1, "format", std::string("expected '# format = ") + kManifestFormat + "'");
+    throw InputError(path, 1, "format",
+                     std::string("expected '# format = ") + kManifestFormat + "'");
   }
   const CsvTable t = CsvTable::Parse(table, path);
   if (t.header() != std::vector<std::string>(std::begin(kColumns), std::end(kColumns))) {
@@ -119,7 +120,8 @@ void VerifyManifest(const Manifest& m, const std::string& root, const std::strin
     const std::string rel = fs::relative(e.path(), root).generic_string();
     if (rel == "manifest.csv" || rel == "README.md" || rel == "targets.toml") continue;
     if (listed.count(rel) == 0) {
-      throw InputError(manifest_path, 0, rel, "the database holds a file its manifest does not list");
+      throw InputError(manifest_path, 0, rel,
+                       "the database holds a file its manifest does not list");
     }
   }
 }

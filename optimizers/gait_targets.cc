@@ -32,11 +32,13 @@ void ReadBounds(TomlReader& t, Bounds* bounds) {
 
 std::string Resolve(const TomlReader& t, const std::string& path) {
   const std::filesystem::path p(path);
-  return p.is_absolute() ? path : (std::filesystem::path(t.Directory()) / p).lexically_normal().string();
+  return p.is_absolute() ? path
+                         : (std::filesystem::path(t.Directory()) / p).lexically_normal().string();
 }
 
 bool Reserved(const std::string& name) {
-  for (const char* taken : {"index", "manifest", "walker", "gait_pattern", "networks", "reference"}) {
+  for (const char* taken :
+       {"index", "manifest", "walker", "gait_pattern", "networks", "reference"}) {
     if (name == taken) return true;
   }
   return false;

@@ -2,7 +2,8 @@
 // gait of a database must be, how to search for it, and its per-gait walker settings.
 //   model = "model.toml"        optional: the robot model's file (default: the built-in model)
 //   [bounds]                    optional: search bounds over the defaults, for every target
-//   [check] suite = "..."       optional: a suite run on the built database (each scenario must pass)
+//   [check] suite = "..."       optional: a suite run on the built database (each scenario must
+//   pass)
 //   [[gait]]
 //   name = "vm_0.60"            optional (default vm_<v_m, 2 decimals>)
 //   v_m = 0.6                   m/s

@@ -7,10 +7,10 @@
 #include <stdexcept>
 
 #include "cmac_fit.h"
-#include "rabbit/learn/cmac_training.h"
-#include "rabbit/learn/network_io.h"
 #include "rabbit/io/error.h"
+#include "rabbit/learn/cmac_training.h"
 #include "rabbit/learn/fll.h"
+#include "rabbit/learn/network_io.h"
 #include "rabbit/learn/ts_fis.h"
 
 namespace rabbit {
@@ -81,8 +81,9 @@ std::vector<TrainedNetwork> TrainGaitNetworks(const std::vector<GaitRecord>& gai
                     {"output", kGaitOutputNames[o]},
                     {"method", a.method},
                     {"training_rms", std::to_string(rms)}};
-      n.entry = {g.name, kGaitOutputNames[o], file, a.method, rms,
-                 static_cast<int>(n.cmac.weights().size())};
+      n.entry = {g.name, kGaitOutputNames[o],
+                 file,   a.method,
+                 rms,    static_cast<int>(n.cmac.weights().size())};
       out.push_back(std::move(n));
     }
   }

@@ -28,7 +28,7 @@ struct TrainedNetwork {
   Cmac cmac;
   NetworkIndexEntry entry;  // gait, output, file, method, rms, weights
   std::map<std::string, std::string> metadata;
-  double seconds = 0.0;     // fitting time
+  double seconds = 0.0;  // fitting time
 };
 
 // The CMAC structure for these gaits (their e range plus the margin).

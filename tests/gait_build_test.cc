@@ -6,8 +6,10 @@
 #include "gait_build.h"
 
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -127,8 +129,8 @@ TEST_F(GaitBuildTest, ResumeKeepsUnchangedGaitsAndRebuildsChangedOnes) {
 }
 
 TEST_F(GaitBuildTest, MissedTargetExitsOneAndWritesNothingForIt) {
-  const std::string targets =
-      Write("targets.toml", std::string(kTwoGaits) + "[[gait]]\nv_m = 0.9\nl_step = 0.47\nbudget = 1\n");
+  const std::string targets = Write(
+      "targets.toml", std::string(kTwoGaits) + "[[gait]]\nv_m = 0.9\nl_step = 0.47\nbudget = 1\n");
   const GaitBuildResult r = Build(targets, "db", 2);
   EXPECT_EQ(r.exit_code(), 1);
   EXPECT_EQ(r.missed, std::vector<std::string>{"vm_0.90"});
@@ -163,10 +165,11 @@ TEST_F(GaitBuildTest, RefusesAnOutThatIsNotADatabaseOrDisagreesWithItsManifest) 
 }
 
 TEST_F(GaitBuildTest, BadTargetsNameFileLineAndKey) {
-  ExpectTargetsError("[[gait]]\nv_m = 0.4\n[[gait]]\nv_m = 0.5\nname = \"vm_0.40\"\n", 5, "gait[2].name",
-                     "second target named");
-  ExpectTargetsError("[[gait]]\nv_m = 0.4\nl_step = 0.2\n[[gait]]\nv_m = 0.4\nl_step = 0.2\nname = \"b\"\n",
-                     5, "gait[2].v_m", "same (v_m, l_step)");
+  ExpectTargetsError("[[gait]]\nv_m = 0.4\n[[gait]]\nv_m = 0.5\nname = \"vm_0.40\"\n", 5,
+                     "gait[2].name", "second target named");
+  ExpectTargetsError(
+      "[[gait]]\nv_m = 0.4\nl_step = 0.2\n[[gait]]\nv_m = 0.4\nl_step = 0.2\nname = \"b\"\n", 5,
+      "gait[2].v_m", "same (v_m, l_step)");
   ExpectTargetsError("[[gait]]\nv_m = 0.4\n[gait.bounds]\nhip_kp = [100, 50]\n", 4,
                      "gait[1].bounds.hip_kp", "lower < upper");
   ExpectTargetsError("[[gait]]\nv_m = 0.4\nspeed = 3\n", 3, "gait[1].speed", "");
@@ -176,6 +179,22 @@ TEST_F(GaitBuildTest, BadTargetsNameFileLineAndKey) {
                      "gait[1].walker.rule_share", "[0, 1]");
   ExpectTargetsError("[[gait]]\nv_m = 0.4\nname = \"index\"\n", 3, "gait[1].name", "taken");
   ExpectTargetsError("[[gait]]\nv_m = 0.4\nname = \"manifest\"\n", 3, "gait[1].name", "taken");
+}
+
+// The command: bad targets exit 2 naming the file and key, and write nothing.
+TEST_F(GaitBuildTest, CommandExitsTwoOnBadTargetsAndWritesNothing) {
+  const std::string bad = Write("bad.toml", "[[gait]]\nv_m = 0.4\nname = \"index\"\n");
+  const fs::path out = dir_ / "out";
+  const fs::path err = dir_ / "err.txt";
+  const std::string command = std::string(RABBIT_CLI_PATH) + " gaits build " + bad + " --out " +
+                              out.string() + " -q 2> " + err.string();
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  EXPECT_FALSE(fs::exists(out));
+  const std::string message = Bytes(err);
+  EXPECT_NE(message.find("bad.toml:3"), std::string::npos) << message;
+  EXPECT_NE(message.find("gait[1].name"), std::string::npos) << message;
 }
 
 TEST(WalkerSettingsTest, RoundTripAndBadFiles) {

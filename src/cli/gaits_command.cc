@@ -16,11 +16,11 @@
 #include "gait_synthesis.h"
 #include "gait_targets.h"
 #include "rabbit/gait/database_layout.h"
-#include "rabbit/scenario/ranks.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/report/gait_report.h"
+#include "rabbit/scenario/ranks.h"
 #include "rabbit/scenario/scenario.h"
 
 namespace rabbit::cli {
@@ -53,7 +53,8 @@ int RunBuild(const BuildArgs& a) {
   const GaitBuildResult r = BuildGaitDatabase(targets, options);
   if (!Ranks::root()) return r.exit_code();
   for (const std::string& name : r.missed) {
-    std::fprintf(stderr, "rabbit gaits build: %s (%s) misses its criteria: nothing written for it\n",
+    std::fprintf(stderr,
+                 "rabbit gaits build: %s (%s) misses its criteria: nothing written for it\n",
                  name.c_str(), a.targets.c_str());
   }
   for (const std::string& run : r.check_failures) {
@@ -64,7 +65,8 @@ int RunBuild(const BuildArgs& a) {
         "gaits build: %zu built, %zu kept, %zu missed; %ld walks in %.1f s (%.1f walks/s); "
         "%.1f s wall; wrote %s\n",
         r.built.size(), r.kept.size(), r.missed.size(), r.walks, r.synthesis_seconds,
-        static_cast<double>(r.walks) / std::max(r.synthesis_seconds, 1e-9), r.wall_seconds, a.out.c_str());
+        static_cast<double>(r.walks) / std::max(r.synthesis_seconds, 1e-9), r.wall_seconds,
+        a.out.c_str());
   }
   return r.exit_code();
 }
@@ -75,6 +77,7 @@ struct SynthesizeArgs {
   unsigned seed = 1;
   int budget = 1500;
   std::string dir = "gaits";  // database (or its reference/ folder)
+  std::string reference_dir;  // --dir: the reference folder itself (older form)
   std::string name;
   bool force = false;
   bool quiet = false;
@@ -103,7 +106,7 @@ int RunSynthesize(const SynthesizeArgs& a) {
                  "stores it anyway)\n";
     return 1;
   }
-  const std::string reference = ReferenceFolder(a.dir);
+  const std::string reference = a.reference_dir.empty() ? ReferenceFolder(a.dir) : a.reference_dir;
   const std::string path = AddGaitToDatabase(record, reference);
   if (!a.quiet) std::printf("wrote %s and %s/index.csv\n", path.c_str(), reference.c_str());
   return ok ? 0 : 1;
@@ -112,6 +115,7 @@ int RunSynthesize(const SynthesizeArgs& a) {
 struct GenerateArgs {
   std::string config;
   std::string dir = "gaits";
+  std::string reference_dir;  // --dir: the reference folder itself (older form)
   int jobs = 0;
   bool force = false;
   bool quiet = false;
@@ -142,7 +146,7 @@ int RunGenerate(const GenerateArgs& a) {
       names.push_back(t.name);
     }
   }
-  const std::string reference = ReferenceFolder(a.dir);
+  const std::string reference = a.reference_dir.empty() ? ReferenceFolder(a.dir) : a.reference_dir;
   std::vector<GaitRecord> records(targets.size());
   std::vector<char> ok(targets.size(), 0);
   std::vector<std::string> errors(targets.size());
@@ -210,7 +214,8 @@ int RunList(const std::string& dir) {
 }  // namespace
 
 Command RegisterGaits(CLI::App* app) {
-  CLI::App* gaits = app->add_subcommand("gaits", "Reference gaits: build, synthesize, generate, list, report");
+  CLI::App* gaits =
+      app->add_subcommand("gaits", "Reference gaits: build, synthesize, generate, list, report");
   gaits->require_subcommand(1);
   auto synth = std::make_shared<SynthesizeArgs>();
   CLI::App* s = gaits->add_subcommand(
@@ -220,7 +225,7 @@ Command RegisterGaits(CLI::App* app) {
   s->add_option("--seed", synth->seed, "Seed of the global stage");
   s->add_option("--budget", synth->budget, "Simulations at most")->check(CLI::Range(1, 1000000));
   s->add_option("--gaits", synth->dir, "Gait database to add the gait to (default gaits)");
-  s->add_option("--dir", synth->dir, "Same as --gaits")->group("");
+  s->add_option("--dir", synth->reference_dir, "A reference folder (older form)")->group("");
   s->add_option("--name", synth->name, "Gait name (default vm_<V>)");
   s->add_flag("--force", synth->force, "Store the gait even if it misses the criteria");
   s->add_flag("--quiet,-q", synth->quiet, "No progress output");
@@ -229,7 +234,7 @@ Command RegisterGaits(CLI::App* app) {
       "generate", "Regenerate the reference database: the five gaits of Table 2, or a config's");
   g->add_option("config", gen->config, "TOML with [[gait]] v_m, l_step, seed, budget");
   g->add_option("--gaits", gen->dir, "Gait database to add the gaits to (default gaits)");
-  g->add_option("--dir", gen->dir, "Same as --gaits")->group("");
+  g->add_option("--dir", gen->reference_dir, "A reference folder (older form)")->group("");
   g->add_option("--jobs", gen->jobs, "Parallel searches (default: all cores)")
       ->check(CLI::Range(1, 1024));
   g->add_flag("--quiet,-q", gen->quiet, "No progress output");
@@ -247,7 +252,8 @@ Command RegisterGaits(CLI::App* app) {
   l->add_option("--dir", *list_dir, "Same as --gaits")->group("");
   auto build = std::make_shared<BuildArgs>();
   CLI::App* b = gaits->add_subcommand(
-      "build", "Build a whole gait database from a targets file (synthesis, networks, FLL, manifest)");
+      "build",
+      "Build a whole gait database from a targets file (synthesis, networks, FLL, manifest)");
   b->add_option("targets", build->targets, "Targets file (TOML; default gaits/targets.toml)");
   b->add_option("--out", build->out, "Database folder: new, empty, or a database to resume")
       ->required();

@@ -15,8 +15,12 @@ std::string GaitDatabaseRoot(const std::string& dir) {
   return dir;
 }
 
-std::string ReferenceDirOf(const std::string& root) { return (fs::path(root) / kReferenceDir).string(); }
-std::string NetworksDirOf(const std::string& root) { return (fs::path(root) / kNetworksDir).string(); }
+std::string ReferenceDirOf(const std::string& root) {
+  return (fs::path(root) / kReferenceDir).string();
+}
+std::string NetworksDirOf(const std::string& root) {
+  return (fs::path(root) / kNetworksDir).string();
+}
 std::string GaitPatternOf(const std::string& root) {
   return (fs::path(root) / kGaitPatternFile).string();
 }

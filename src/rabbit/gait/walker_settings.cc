@@ -34,8 +34,7 @@ std::map<std::string, GaitWalkerSettings> ReadWalkerSettings(const std::string& 
     bool found = false;
     for (const std::string& k : known) found = found || k == column;
     if (!found) {
-      throw InputError(path, 1, column,
-                       "unknown column (expected name and rule_share)");
+      throw InputError(path, 1, column, "unknown column (expected name and rule_share)");
     }
   }
   const size_t name_column = table.Column("name");
@@ -43,8 +42,9 @@ std::map<std::string, GaitWalkerSettings> ReadWalkerSettings(const std::string& 
   std::map<std::string, GaitWalkerSettings> out;
   for (size_t r = 0; r < table.num_rows(); ++r) {
     const std::string name = table.Text(r, name_column);
-    if (name.empty() || name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
-                                               "0123456789._-") != std::string::npos ||
+    if (name.empty() ||
+        name.find_first_not_of("abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ"
+                               "0123456789._-") != std::string::npos ||
         name.find("..") != std::string::npos) {
       throw InputError(path, table.line(r), "name",
                        "gait names use letters, digits, '.', '_' and '-' only");
