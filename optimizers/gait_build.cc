@@ -91,6 +91,15 @@ bool InspectOut(const fs::path& out, Manifest* manifest) {
     }
     Commit(out, old_files);
   }
+  if (fs::exists(staging) && Ranks::root()) {
+    // An incomplete staging folder of an interrupted build: dropped when the folder is a database
+    // or holds nothing else (else it is not ours, and the folder is refused below).
+    bool alone = true;
+    for (const fs::directory_entry& e : fs::directory_iterator(out)) {
+      alone = alone && e.path().filename() == kStaging;
+    }
+    if (alone || fs::exists(out / kManifestFile)) fs::remove_all(staging);
+  }
   if (!fs::exists(out)) return false;
   if (!fs::is_directory(out)) {
     throw InputError(out.string(), 0, "--out", "exists and is not a folder: nothing written");

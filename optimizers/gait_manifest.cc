@@ -119,6 +119,7 @@ void VerifyManifest(const Manifest& m, const std::string& root, const std::strin
     if (!e.is_regular_file()) continue;
     const std::string rel = fs::relative(e.path(), root).generic_string();
     if (rel == "manifest.csv" || rel == "README.md" || rel == "targets.toml") continue;
+    if (rel.rfind(".build/", 0) == 0) continue;  // a build's staging folder
     if (listed.count(rel) == 0) {
       throw InputError(manifest_path, 0, rel,
                        "the database holds a file its manifest does not list");

@@ -119,6 +119,11 @@ TEST_F(GaitBuildTest, ResumeKeepsUnchangedGaitsAndRebuildsChangedOnes) {
   EXPECT_TRUE(again.built.empty());
   EXPECT_EQ(again.kept.size(), 2u);
   EXPECT_EQ(Bytes(dir_ / "db" / "manifest.csv"), manifest);
+  // An incomplete staging folder left by a killed build is dropped.
+  fs::create_directories(dir_ / "db" / ".build" / "reference");
+  std::ofstream(dir_ / "db" / ".build" / "reference" / "half.csv") << "x";
+  EXPECT_EQ(Build(targets, "db", 1).kept.size(), 2u);
+  EXPECT_FALSE(fs::exists(dir_ / "db" / ".build"));
   // A changed target (its seed) is rebuilt; the other is kept.
   std::string changed = kTwoGaits;
   changed += "seed = 2\n";

@@ -227,7 +227,8 @@ TEST_F(PlannerWalkTest, StepsOverObstaclesThatFailedWithoutIt) {
       "[defaults.simulation]\ndistance = 9.0\nduration = 40.0\nrecord_every = 50\n"
       "[defaults.velocity]\nvalue = 0.6\n[defaults.controller]\n"
       "type = \"fuzzy_cmac\"\ndatabase = \"" +
-      root + "/gaits\"\nfis_v_lead = 1.0\n"
+      root +
+      "/gaits\"\nfis_v_lead = 1.0\n"
       "[defaults.criteria]\nmin_steps_after_obstacles = 10\n"
       "allow_obstacle_contact = false\n";
   int i = 0;

@@ -571,8 +571,8 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
   } else {
     f.database = database;
     f.fll = fll.empty() ? (fs::path(database) / "gait_pattern.fll").string() : ResolvePath(*t, fll);
-    f.networks = networks.empty() ? (fs::path(database) / "networks").string()
-                                  : ResolvePath(*t, networks);
+    f.networks =
+        networks.empty() ? (fs::path(database) / "networks").string() : ResolvePath(*t, networks);
     f.gaits = gaits.empty() ? (fs::path(database) / "reference").string() : ResolvePath(*t, gaits);
   }
   ReadMembershipSets(t->Table("sets"), *CachedFll(f.fll), s);
@@ -627,6 +627,9 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
                 "; docs/gait-database.md); remove this key");
   }
   // Per-gait settings by name, checked here so that a bad file fails the load (exit 2).
+  // gait_rules = false: the chapter's walker (PD tracking of the pattern only), whatever the
+  // database's rule shares.
+  const bool gait_rules = t->Bool("gait_rules", true);
   s->gait_settings = ReadDatabaseWalkerSettings(f.database);
   for (const auto& [name, settings] : s->gait_settings) {
     const bool listed = std::any_of(index.begin(), index.end(),
@@ -637,6 +640,7 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
                            "/index.csv does not list");
     }
   }
+  if (!gait_rules) s->gait_settings.clear();
   w.d_obs_max = t->Double("d_obs_max", w.d_obs_max);
   w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
   w.lift_clearance = t->Double("lift_clearance", w.lift_clearance);
@@ -667,8 +671,7 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
     pp.feedback_gain = pt.Double("feedback_gain", pp.feedback_gain);
     pp.bias_initial = pt.Double("bias_initial", pp.bias_initial);
     pp.bias_max = pt.Double("bias_max", pp.bias_max);
-    pp.recovery_steps =
-        static_cast<int>(pt.Integer("recovery_steps", pp.recovery_steps, 0, 100));
+    pp.recovery_steps = static_cast<int>(pt.Integer("recovery_steps", pp.recovery_steps, 0, 100));
     pp.stretch = pt.Double("stretch", pp.stretch);
     pp.over_lift_trail = pt.Double("over_lift_trail", pp.over_lift_trail);
     pp.over_lift_release = pt.Double("over_lift_release", pp.over_lift_release);

@@ -53,8 +53,8 @@ struct PassCriteria {
 // The walker's gait database and, within it (or named apart), its gait pattern and reference
 // gaits, as paths (resolved against the scenario file).
 struct GaitPatternFiles {
-  std::string database;  // the folder with walker.csv (docs/gait-database.md)
   std::string fll, networks, gaits;
+  std::string database;  // the folder with walker.csv (docs/gait-database.md)
 };
 
 struct Scenario {
