@@ -1,20 +1,21 @@
 #include "gait_targets.h"
 
+#include <array>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
 #include <map>
 #include <utility>
 
+#include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
+#include "rabbit/scenario/params.h"
 #include "rabbit/scenario/scenario.h"
 
 namespace rabbit {
 namespace {
 
 using Bounds = std::array<std::pair<double, double>, kSynthesisParams>;
-
-// Names a database keeps for its own files.
-const char* const kReservedNames[] = {"index", "manifest"};
 
 // A `bounds` table: `name = [lower, upper]` for any of kSynthesisParamNames, over *bounds; each
 // pair within its parameter's physical range (SynthesisOptions::IsValid).
@@ -40,6 +41,20 @@ void ReadBounds(TomlReader& t, Bounds* bounds) {
   b.Finish();
 }
 
+std::string Resolve(const TomlReader& t, const std::string& path) {
+  const std::filesystem::path p(path);
+  return p.is_absolute() ? path
+                         : (std::filesystem::path(t.Directory()) / p).lexically_normal().string();
+}
+
+bool Reserved(const std::string& name) {
+  for (const char* taken :
+       {"index", "manifest", "walker", "gait_pattern", "networks", "reference"}) {
+    if (name == taken) return true;
+  }
+  return false;
+}
+
 // The (v_m, l_step) of a target to the millimetre: two targets closer than that are one.
 std::pair<long, long> CellKey(const SynthesisOptions& o) {
   return {std::lround(o.target_v_m * 1000.0), std::lround(o.target_l_step * 1000.0)};
@@ -57,17 +72,30 @@ std::string DefaultGaitName(double v_m, double l_step, GaitRole role) {
   return buffer;
 }
 
-std::vector<GaitTarget> ReadGaitTargets(const std::string& path) {
+GaitTargets ReadGaitTargets(const std::string& path) {
   TomlReader root = TomlReader::ParseFile(path);
+  GaitTargets out;
+  out.file = path;
+  const std::string model = root.String("model", "");
+  if (!model.empty()) {
+    out.model_file = Resolve(root, model);
+    out.model = LoadModelFile(out.model_file);
+  }
   Bounds common = DefaultSynthesisBounds();
   ReadBounds(root, &common);
-  std::vector<GaitTarget> out;
+  if (root.Has("check")) {
+    TomlReader check = root.Table("check");
+    const std::string suite = check.String("suite", "");
+    if (suite.empty()) check.Fail("suite", "name the suite to run on the built database");
+    out.check_suite = Resolve(check, suite);
+    check.Finish();
+  }
   std::map<std::string, int> names;            // name -> line
   std::map<std::pair<long, long>, int> cells;  // (v_m, l_step) in mm -> line
   for (TomlReader& t : root.TableArray("gait")) {
-    GaitTarget target;
-    target.line = t.line();
-    SynthesisOptions& o = target.options;
+    GaitTarget g;
+    g.line = t.line();
+    SynthesisOptions& o = g.synthesis;
     o.bounds = common;
     ReadBounds(t, &o.bounds);
     o.target_v_m = t.RequiredDouble("v_m");
@@ -75,38 +103,42 @@ std::vector<GaitTarget> ReadGaitTargets(const std::string& path) {
     o.seed = static_cast<unsigned>(t.Integer("seed", o.seed, 0, 4294967295L));
     o.budget = static_cast<int>(t.Integer("budget", o.budget, 1, 1000000));
     const std::string role = t.String("role", "speed");
-    if (!ParseGaitRole(role, &target.role)) {
+    if (!ParseGaitRole(role, &g.role)) {
       t.Fail("role", "unknown role \"" + role + "\" (speed or library)");
     }
-    std::string error;
-    if (!o.IsValid(&error)) t.Fail("", error);
-    if (target.role == GaitRole::kLibrary && !(o.target_l_step > 0.0)) {
+    if (g.role == GaitRole::kLibrary && !(o.target_l_step > 0.0)) {
       t.Fail("l_step", "a library gait needs a step length (l_step > 0)");
     }
-    target.name = t.String("name", DefaultGaitName(o.target_v_m, o.target_l_step, target.role));
-    if (!IsSafeName(target.name)) {
-      t.Fail("name", "use letters, digits, '.', '_' and '-' only (it names the gait's file)");
-    }
-    for (const char* reserved : kReservedNames) {
-      if (target.name == reserved) {
-        t.Fail("name", "\"" + target.name + "\" is the name of one of the database's own files");
+    g.name = t.String("name", DefaultGaitName(o.target_v_m, o.target_l_step, g.role));
+    if (t.Has("walker")) {
+      TomlReader w = t.Table("walker");
+      g.walker.rule_share = w.Double("rule_share", g.walker.rule_share);
+      if (!(g.walker.rule_share >= 0.0 && g.walker.rule_share <= 1.0)) {
+        w.Fail("rule_share", "must be in [0, 1]");
       }
+      w.Finish();
     }
     t.Finish();
-    const auto named = names.emplace(target.name, target.line);
+    std::string error;
+    if (!o.IsValid(&error)) t.Fail("", error);
+    if (!IsSafeName(g.name)) t.Fail("name", SafeNameRule(g.name) + " (it names the gait's file)");
+    if (Reserved(g.name)) {
+      t.Fail("name", "\"" + g.name + "\" is the name of one of the database's own files");
+    }
+    const auto named = names.emplace(g.name, g.line);
     if (!named.second) {
-      t.Fail("name", "a second target named \"" + target.name + "\" (the first is at line " +
+      t.Fail("name", "a second target named \"" + g.name + "\" (the first is at line " +
                          std::to_string(named.first->second) + ")");
     }
-    const auto cell = cells.emplace(CellKey(o), target.line);
+    const auto cell = cells.emplace(CellKey(o), g.line);
     if (!cell.second) {
       t.Fail("v_m", "a second target at the same (v_m, l_step) (the first is at line " +
                         std::to_string(cell.first->second) + ")");
     }
-    out.push_back(target);
+    out.gaits.push_back(g);
   }
   root.Finish();
-  if (out.empty()) root.Fail("gait", "no [[gait]] targets");
+  if (out.gaits.empty()) root.Fail("gait", "no [[gait]] targets");
   return out;
 }
 
@@ -115,12 +147,29 @@ std::vector<GaitTarget> DefaultGaitTargets() {
   std::vector<GaitTarget> out;
   for (const auto& row : table) {
     GaitTarget t;
-    t.options.target_v_m = row[0];
-    t.options.target_l_step = row[1];
+    t.synthesis.target_v_m = row[0];
+    t.synthesis.target_l_step = row[1];
     t.name = DefaultGaitName(row[0], row[1], GaitRole::kSpeed);
     out.push_back(t);
   }
   return out;
+}
+
+std::string TargetInputsText(const GaitTarget& g) {
+  const SynthesisOptions& o = g.synthesis;
+  std::string text = "name " + g.name + "\nrole " + GaitRoleName(g.role) + "\nv_m " +
+                     ExactNumber(o.target_v_m) + "\nl_step " + ExactNumber(o.target_l_step) +
+                     "\nseed " + std::to_string(o.seed) + "\nbudget " + std::to_string(o.budget) +
+                     "\nwalk_duration " + ExactNumber(o.walk_duration) + "\nwindow " +
+                     std::to_string(o.window) + "\nlocal " + o.local_algorithm +
+                     "\nv_tolerance " + ExactNumber(o.v_tolerance) + "\nl_tolerance " +
+                     ExactNumber(o.l_tolerance) + "\nmax_l_spread " + ExactNumber(o.max_l_spread) +
+                     "\n";
+  for (int i = 0; i < kSynthesisParams; ++i) {
+    text += std::string("bounds ") + kSynthesisParamNames[i] + " " +
+            ExactNumber(o.bounds[i].first) + " " + ExactNumber(o.bounds[i].second) + "\n";
+  }
+  return text;
 }
 
 }  // namespace rabbit

@@ -1,6 +1,21 @@
-// The targets file of a gait database (gaits/targets.toml): one [[gait]] per gait to synthesize,
-// over speed (v_m) and step length (l_step), each with a name, a role, a seed, a budget and
-// optional search bounds.
+// A targets file (TOML) of `rabbit gaits build` and `rabbit gaits generate`: what each gait of a
+// database must be, how to search for it, and its per-gait walker settings.
+//   model = "model.toml"        optional: the robot model's file (default: the built-in model)
+//   [bounds]                    optional: search bounds over the defaults, for every target
+//   [check] suite = "..."       optional: a suite run on the built database (each scenario must
+//                               pass)
+//   [[gait]]
+//   v_m = 0.6                   m/s (required)
+//   l_step = 0.34               m (0 or absent: no step-length target; required for a library gait)
+//   name = "vm_0.60"            optional (default vm_0.60 for a speed gait, vm_0.60_l_0.27 for a
+//                               library gait)
+//   role = "speed"              "speed" (a gait the chapter's walker blends over V_M) or
+//                               "library" (one more step length at a speed, for a step planner)
+//   seed = 1                    the global stage's seed
+//   budget = 1500               walks at most
+//   [gait.bounds]               name = [lower, upper] for any searched parameter
+//   [gait.walker]               per-gait walker settings (walker_settings.h): rule_share = 0
+// Relative paths resolve against the targets file's folder (docs/gait-database.md).
 #ifndef RABBIT_OPTIMIZERS_GAIT_TARGETS_H_
 #define RABBIT_OPTIMIZERS_GAIT_TARGETS_H_
 
@@ -9,32 +24,44 @@
 
 #include "gait_synthesis.h"
 #include "rabbit/gait/gait_database.h"
+#include "rabbit/gait/walker_settings.h"
+#include "rabbit/model/params.h"
 
 namespace rabbit {
 
 struct GaitTarget {
   std::string name;  // the gait's name in the database (its file is name.csv)
   GaitRole role = GaitRole::kSpeed;
-  SynthesisOptions options;  // target_v_m, target_l_step, seed, budget, bounds
-  int line = 0;              // of its [[gait]] in the targets file (0: not from a file)
+  SynthesisOptions synthesis;  // target_v_m, target_l_step, seed, budget, bounds
+  GaitWalkerSettings walker;
+  int line = 0;  // of its [[gait]] in the targets file (0: not from a file)
+};
+
+struct GaitTargets {
+  std::string file;
+  std::string model_file;  // resolved path, empty: the built-in model
+  ModelParams model;
+  std::string check_suite;  // resolved path, empty: none
+  std::vector<GaitTarget> gaits;
 };
 
 // The default names: vm_0.60 for a speed gait, vm_0.60_l_0.27 for a library gait (speed and step
 // length to the centimetre).
-std::string DefaultGaitName(double v_m, double l_step, GaitRole role);
+std::string DefaultGaitName(double v_m, double l_step = 0.0, GaitRole role = GaitRole::kSpeed);
 
-// Reads a targets file:
-//   [bounds]            optional, `name = [lower, upper]` over DefaultSynthesisBounds() for all
-//   [[gait]]            v_m (m/s, required), l_step (m; 0 or absent: none), name, role ("speed",
-//                       the default, or "library", which needs an l_step), seed, budget,
-//     [gait.bounds]     and bounds over the file's.
-// Throws InputError naming the file, line and key for an unknown key, a bad value, impossible
-// bounds, two targets with one name or one (v_m, l_step), or a name that is not a safe file name
-// or is one of the database's own files (index, manifest).
-std::vector<GaitTarget> ReadGaitTargets(const std::string& path);
+// Reads and validates a targets file. Throws InputError naming the file, line and key for unknown
+// keys, bounds that are not finite lower < upper or outside their parameter's physical range, an
+// unknown role, a library gait without a step length, a name that is not safe or is taken by the
+// database's own files (index, manifest, walker, gait_pattern, networks, reference), and two
+// targets with the same name or the same (v_m, l_step) (to the millimetre).
+GaitTargets ReadGaitTargets(const std::string& path);
 
 // The targets used when no file is given: the chapter's Table 2 (V_M, L_step), speed gaits.
 std::vector<GaitTarget> DefaultGaitTargets();
+
+// Canonical text of one target's inputs (every number exact): part of what decides whether a
+// built gait is kept when a build resumes.
+std::string TargetInputsText(const GaitTarget& target);
 
 }  // namespace rabbit
 

@@ -126,6 +126,7 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   const std::string base = head.String("params", "");
   if (!base.empty()) job.base = LoadParamOverlay(resolve(base));
   if (extra != nullptr) {
+    job.base.gait_database = extra->gait_database;  // --gaits
     for (const ParamValue& v : extra->values) {
       bool replaced = false;
       for (ParamValue& mine : job.base.values) {

@@ -45,27 +45,26 @@ class GaitTargetsTest : public ::testing::Test {
 };
 
 TEST_F(GaitTargetsTest, NamesRolesAndBounds) {
-  const std::vector<GaitTarget> t = ReadGaitTargets(
-      Write("[bounds]\nq0_d_deg = [-5, 20]\n"
+  const std::vector<GaitTarget> t = ReadGaitTargets(Write("[bounds]\nq0_d_deg = [-5, 20]\n"
             "[[gait]]\nv_m = 0.6\nl_step = 0.34\n"
             "[[gait]]\nv_m = 0.6\nl_step = 0.27\nrole = \"library\"\nbudget = 900\n"
             "[gait.bounds]\nqr1_dsw_deg = [10, 60]\n"
-            "[[gait]]\nv_m = 0.6\nl_step = 0.3\nrole = \"library\"\nname = \"short\"\nseed = 4\n"));
+            "[[gait]]\nv_m = 0.6\nl_step = 0.3\nrole = \"library\"\nname = \"short\"\nseed = 4\n")).gaits;
   ASSERT_EQ(t.size(), 3u);
   EXPECT_EQ(t[0].name, "vm_0.60");
   EXPECT_EQ(t[0].role, GaitRole::kSpeed);
   EXPECT_EQ(t[1].name, "vm_0.60_l_0.27");
   EXPECT_EQ(t[1].role, GaitRole::kLibrary);
-  EXPECT_EQ(t[1].options.budget, 900);
-  EXPECT_EQ(t[1].options.target_l_step, 0.27);
+  EXPECT_EQ(t[1].synthesis.budget, 900);
+  EXPECT_EQ(t[1].synthesis.target_l_step, 0.27);
   EXPECT_EQ(t[2].name, "short");
-  EXPECT_EQ(t[2].options.seed, 4u);
+  EXPECT_EQ(t[2].synthesis.seed, 4u);
   // Bounds: the file's [bounds] over the defaults, then the target's own.
   const auto defaults = DefaultSynthesisBounds();
-  for (const GaitTarget& g : t) EXPECT_EQ(g.options.bounds[2], std::make_pair(-5.0, 20.0));
-  EXPECT_EQ(t[0].options.bounds[0], defaults[0]);
-  EXPECT_EQ(t[1].options.bounds[0], std::make_pair(10.0, 60.0));
-  EXPECT_EQ(t[2].options.bounds[0], defaults[0]);
+  for (const GaitTarget& g : t) EXPECT_EQ(g.synthesis.bounds[2], std::make_pair(-5.0, 20.0));
+  EXPECT_EQ(t[0].synthesis.bounds[0], defaults[0]);
+  EXPECT_EQ(t[1].synthesis.bounds[0], std::make_pair(10.0, 60.0));
+  EXPECT_EQ(t[2].synthesis.bounds[0], defaults[0]);
   EXPECT_GT(t[1].line, t[0].line);
 }
 
@@ -76,20 +75,24 @@ TEST_F(GaitTargetsTest, DefaultNames) {
   EXPECT_EQ(DefaultGaitName(1.0, 0.5, GaitRole::kLibrary), "vm_1.00_l_0.50");
 }
 
+// gaits/targets.toml holds the shipped database's eight speed gaits; gaits/library.toml the same
+// and the library cells over speed x step length.
 TEST_F(GaitTargetsTest, TheShippedTargetsAreSpeedGaitsAndLibraryCells) {
+  EXPECT_EQ(ReadGaitTargets(std::string(RABBIT_SOURCE_DIR) + "/gaits/targets.toml").gaits.size(),
+            8u);
   const std::vector<GaitTarget> t =
-      ReadGaitTargets(std::string(RABBIT_SOURCE_DIR) + "/gaits/targets.toml");
+      ReadGaitTargets(std::string(RABBIT_SOURCE_DIR) + "/gaits/library.toml").gaits;
   int speed = 0;
   std::map<long, int> step_lengths;  // speed in cm/s -> step lengths there, the speed gait's too
   for (const GaitTarget& g : t) {
-    ++step_lengths[std::lround(100.0 * g.options.target_v_m)];
+    ++step_lengths[std::lround(100.0 * g.synthesis.target_v_m)];
     if (g.role == GaitRole::kSpeed) {
       ++speed;
-      EXPECT_EQ(g.name, DefaultGaitName(g.options.target_v_m, 0.0, GaitRole::kSpeed));
+      EXPECT_EQ(g.name, DefaultGaitName(g.synthesis.target_v_m, 0.0, GaitRole::kSpeed));
     } else {
-      EXPECT_GT(g.options.target_l_step, 0.0) << g.name;
+      EXPECT_GT(g.synthesis.target_l_step, 0.0) << g.name;
       EXPECT_EQ(g.name,
-                DefaultGaitName(g.options.target_v_m, g.options.target_l_step, GaitRole::kLibrary));
+                DefaultGaitName(g.synthesis.target_v_m, g.synthesis.target_l_step, GaitRole::kLibrary));
     }
   }
   EXPECT_EQ(speed, 8);

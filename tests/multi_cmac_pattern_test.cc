@@ -24,8 +24,9 @@ const std::string kRoot = std::string(RABBIT_SOURCE_DIR);
 const char* const kOutputs[] = {"q_i1 deg", "q_i2 deg", "qd_i1 deg/s", "qd_i2 deg/s"};
 
 std::shared_ptr<const GaitLibrary> ShippedLibrary() {
-  static const std::shared_ptr<const GaitLibrary> library = LoadGaitLibrary(
-      {kRoot + "/gaits/gait_pattern.fll", kRoot + "/gaits/networks", kRoot + "/gaits/reference"});
+  static const std::shared_ptr<const GaitLibrary> library =
+      LoadGaitLibrary({kRoot + "/gaits/gait_pattern.fll", kRoot + "/gaits/networks",
+                       kRoot + "/gaits/reference", kRoot + "/gaits"});
   return library;
 }
 

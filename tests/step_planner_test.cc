@@ -226,12 +226,9 @@ TEST_F(PlannerWalkTest, StepsOverObstaclesThatFailedWithoutIt) {
       "[suite]\nname = \"walk\"\n[defaults]\nexpect_outcome = \"completed\"\n"
       "[defaults.simulation]\ndistance = 9.0\nduration = 40.0\nrecord_every = 50\n"
       "[defaults.velocity]\nvalue = 0.6\n[defaults.controller]\n"
-      "type = \"fuzzy_cmac\"\nfll = \"" +
+      "type = \"fuzzy_cmac\"\ndatabase = \"" +
       root +
-      "/gaits/gait_pattern.fll\"\n"
-      "networks = \"" +
-      root + "/gaits/networks\"\ngaits = \"" + root +
-      "/gaits/reference\"\nfis_v_lead = 1.0\nrule_share = [1, 0, 0, 0, 0, 1, 1, 1]\n"
+      "/gaits\"\nfis_v_lead = 1.0\n"
       "[defaults.criteria]\nmin_steps_after_obstacles = 10\n"
       "allow_obstacle_contact = false\n";
   int i = 0;

@@ -158,12 +158,13 @@ TEST_F(SuiteTest, BadInputOfTheIssue) {
   ExpectError(Walker("[[scenario]]\nname = \"a\"\n[[scenario.push]]\nstart = 1.0\nforce_x = nan\n"),
               16, "scenario[1].push[1].force_x", "finite");
   ExpectError("[suite]\nname = \"t\"\n", 1, "", "no [[scenario]]");
-  // rule_share: one factor per reference gait (eight shipped), each in [0, 1].
+  // rule_share is a per-gait setting of the gait database: a positional array is refused,
+  // naming its replacement.
   ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.controller]\nrule_share = [1, 0]\n"),
-              15, "scenario[1].controller.rule_share", "one factor per reference gait (8");
+              15, "scenario[1].controller.rule_share", "walker.csv");
   ExpectError(Walker("[[scenario]]\nname = \"a\"\n[scenario.controller]\n"
-                     "rule_share = [0, 0, 0, 0, 0, 0, 0, 2]\n"),
-              -1, "scenario[1].controller", "rule_share");
+                     "rule_share = [1, 0, 0, 0, 0, 1, 1, 1]\n"),
+              15, "scenario[1].controller.rule_share", "rule_share column");
 }
 
 TEST_F(SuiteTest, FamiliesExpandDeterministically) {

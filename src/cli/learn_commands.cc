@@ -1,4 +1,5 @@
-// rabbit train: CMACs for every reference gait; rabbit fis eval: the gait pattern's fuzzy system.
+// rabbit train: CMACs for every speed gait of a database; rabbit fis eval | generate: the gait
+// pattern's fuzzy system.
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -13,7 +14,8 @@
 #include "cli/commands.h"
 #include "cli/data_root.h"
 #include "cli/flag_checks.h"
-#include "cmac_fit.h"
+#include "network_training.h"
+#include "rabbit/gait/database_layout.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/error.h"
@@ -32,8 +34,8 @@ constexpr double kDeg = M_PI / 180.0;
 constexpr double kMaxFlagSpeed = 5.0;  // m/s
 
 struct TrainArgs {
-  std::string gaits = "gaits/reference";
-  std::string out = "gaits/networks";
+  std::string gaits = "gaits";  // database (or its reference/ folder)
+  std::string out;              // default: the database's networks/
   std::string method = "ceres";
   double beta = 0.5;
   int epochs = 400;
@@ -43,75 +45,50 @@ struct TrainArgs {
   bool quiet = false;
 };
 
-// Fits one CMAC with the named method; returns seconds taken.
-double Fit(const std::string& method, const TrainArgs& a, const std::vector<double>& x,
-           const std::vector<double>& y, Cmac* cmac) {
-  const auto start = std::chrono::steady_clock::now();
-  if (method == "lms") {
-    LmsOptions lms;
-    lms.beta = a.beta;
-    lms.epochs = a.epochs;
-    TrainCmacLms(x, y, lms, cmac);
-  } else {
-    CmacFitOptions fit;
-    fit.smoothness = a.smoothness;
-    FitCmacCeres(x, y, fit, cmac);
-  }
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-}
-
 int RunTrain(const TrainArgs& a) {
   namespace fs = std::filesystem;
-  if (!(a.beta > 0.0 && a.beta <= 1.0) || a.epochs < 1 || a.epochs > 1000000 ||
-      !(a.smoothness >= 0.0 && a.smoothness <= 1e6)) {
-    std::cerr << "rabbit train: need 0 < beta <= 1, 1 <= epochs <= 1e6, 0 <= smoothness <= 1e6\n";
+  NetworkTrainingOptions training;
+  training.method = a.method;
+  training.beta = a.beta;
+  training.epochs = a.epochs;
+  training.smoothness = a.smoothness;
+  training.margin_deg = a.margin_deg;
+  std::string error;
+  if (!training.IsValid(&error)) {
+    std::cerr << "rabbit train: " << error << "\n";
     return 2;
   }
+  // --gaits names a database (its reference/ folder is read, its networks/ written) or, as
+  // before databases had a root, a reference folder.
+  const std::string root = GaitDatabaseRoot(a.gaits);
+  const std::string reference =
+      fs::exists(fs::path(a.gaits) / "index.csv") ? a.gaits : ReferenceDirOf(root);
+  const std::string out_dir = a.out.empty() ? NetworksDirOf(root) : a.out;
   // The networks folder, its staging folder and the lock, before any work: only a folder of
-  // networks rabbit train wrote is replaced.
-  const fs::path out(a.out), staging = out.string() + ".staging";
+  // networks rabbit wrote is replaced.
+  const fs::path out(out_dir), staging = out.string() + ".staging";
   const OutputLock lock = ClaimMarkedFolder("--out", out, staging, kNetworksMarker,
                                             "a networks folder of rabbit train");
   const std::vector<GaitIndexEntry> index =
-      ReadGaitIndex((fs::path(a.gaits) / "index.csv").string());
+      ReadGaitIndex((fs::path(reference) / "index.csv").string());
   std::vector<GaitRecord> gaits;
-  double e_min = std::numeric_limits<double>::infinity(), e_max = -e_min;
   std::set<std::string> names;
-  // The networks' common input range spans the speed gaits (all gaits if none is one): library
-  // gaits never change the structure, and so the networks, of the gaits the walker blends.
-  const bool has_speed = !GaitsOfRole(index, GaitRole::kSpeed).empty();
   for (const GaitIndexEntry& entry : index) {
-    const std::string path = (fs::path(a.gaits) / entry.file).string();
+    const std::string path = (fs::path(reference) / entry.file).string();
     gaits.push_back(ReadGaitFile(path));
     // The gait's name becomes file names: it must be safe and unique.
     if (!IsSafeName(gaits.back().name) || !names.insert(gaits.back().name).second) {
       throw InputError(path, 0, "name",
                        "gait names must be unique and " + SafeNameRule(gaits.back().name));
     }
-    if (has_speed && entry.role != GaitRole::kSpeed) continue;
-    for (const SwingSample& s : gaits.back().swing) {
-      e_min = std::min(e_min, s.e);
-      e_max = std::max(e_max, s.e);
-    }
   }
   if (gaits.empty()) {
-    std::cerr << "rabbit train: no gaits in " << a.gaits << "\n";
+    std::cerr << "rabbit train: no gaits in " << reference << "\n";
     return 2;
   }
-  // One structure for every CMAC (the chapter's: 6 layers, 1.5 deg fields, 0.25 deg quanta), over
-  // the e range of all the gaits plus a margin.
-  CmacOptions options;
-  options.x_min = e_min - a.margin_deg * kDeg;
-  options.x_max = e_max + a.margin_deg * kDeg;
-  // Everything is fitted first, then written into a staging directory that replaces --out at the
-  // end: a failure leaves the old networks whole.
-  struct Fitted {
-    Cmac cmac;
-    std::string file;
-    std::map<std::string, std::string> metadata;
-  };
-  std::vector<Fitted> fitted;
-  std::vector<NetworkIndexEntry> entries;
+  // Everything is fitted first, then written into a staging directory that replaces the
+  // networks folder at the end: a failure leaves the old networks whole.
+  const std::vector<TrainedNetwork> fitted = TrainGaitNetworks(gaits, training);
   // The table of the fits goes to stdout, or nowhere with --quiet.
   std::FILE* table = a.quiet ? nullptr : stdout;
   if (table != nullptr) {
@@ -119,43 +96,29 @@ int RunTrain(const TrainArgs& a) {
     if (a.compare) std::fprintf(table, "   (other method: RMS, time ms)");
     std::fprintf(table, "\n");
   }
-  for (const GaitRecord& g : gaits) {
-    std::vector<double> x;
-    std::array<std::vector<double>, kGaitOutputs> y;
-    SplitSwing(g.swing, &x, &y);
-    for (int o = 0; o < kGaitOutputs; ++o) {
-      Cmac cmac(options);
-      const double seconds = Fit(a.method, a, x, y[o], &cmac);
-      const double rms = CmacRmsError(cmac, x, y[o]);
-      const bool angle = o < 2;
-      if (table != nullptr) {
-        std::fprintf(table, "%-8s %-6s %8s %9.4f %s %10.2f", g.name.c_str(), kGaitOutputNames[o],
-                     a.method.c_str(), rms / kDeg, angle ? "deg  " : "deg/s", seconds * 1e3);
-        if (a.compare) {
-          const std::string other = a.method == "lms" ? "ceres" : "lms";
-          Cmac check(options);
-          const double other_seconds = Fit(other, a, x, y[o], &check);
-          std::fprintf(table, "   (%s: %.4f, %.2f)", other.c_str(),
-                       CmacRmsError(check, x, y[o]) / kDeg, other_seconds * 1e3);
-        }
-        std::fprintf(table, "\n");
-      }
-      const std::string file = g.name + "_" + kGaitOutputNames[o] + ".csv";
-      fitted.push_back({cmac,
-                        file,
-                        {{"gait", g.name},
-                         {"output", kGaitOutputNames[o]},
-                         {"method", a.method},
-                         {"training_rms", std::to_string(rms)}}});
-      entries.push_back({g.name, kGaitOutputNames[o], file, a.method, rms,
-                         static_cast<int>(cmac.weights().size())});
+  const CmacOptions structure = NetworkStructure(gaits, a.margin_deg);
+  for (size_t i = 0; i < fitted.size() && table != nullptr; ++i) {
+    const TrainedNetwork& n = fitted[i];
+    const int o = static_cast<int>(i % kGaitOutputs);
+    const bool angle = o < 2;
+    std::fprintf(table, "%-8s %-6s %8s %9.4f %s %10.2f", n.entry.gait.c_str(),
+                 n.entry.output.c_str(), a.method.c_str(), n.entry.rms / kDeg,
+                 angle ? "deg  " : "deg/s", n.seconds * 1e3);
+    if (a.compare) {
+      std::vector<double> x;
+      std::array<std::vector<double>, kGaitOutputs> y;
+      SplitSwing(gaits[i / kGaitOutputs].swing, &x, &y);
+      const std::string other = a.method == "lms" ? "ceres" : "lms";
+      Cmac check(structure);
+      const double other_seconds = FitNetwork(other, training, x, y[o], &check);
+      std::fprintf(table, "   (%s: %.4f, %.2f)", other.c_str(),
+                   CmacRmsError(check, x, y[o]) / kDeg, other_seconds * 1e3);
     }
+    std::fprintf(table, "\n");
   }
-  WriteMarkedFolder(staging, out, kNetworksMarker, "train", [&] {
-    for (const Fitted& f : fitted) WriteCmacFile(f.cmac, f.metadata, (staging / f.file).string());
-    WriteNetworkIndex(entries, (staging / "index.csv").string());
-  });
-  if (!a.quiet) std::printf("wrote %zu networks to %s\n", entries.size(), a.out.c_str());
+  WriteMarkedFolder(staging, out, kNetworksMarker, "train",
+                    [&] { WriteGaitNetworks(fitted, staging.string()); });
+  if (!a.quiet) std::printf("wrote %zu networks to %s\n", fitted.size(), out_dir.c_str());
   return 0;
 }
 
@@ -223,37 +186,38 @@ int RunFisEval(const FisArgs& a) {
   return 0;
 }
 
-// Writes the default gait pattern (Table 3 generalised to the database's N_r speed gaits, V_M
-// sets at their measured velocities) for a gait database; library gaits take no part in it.
+// Writes the default gait pattern of a gait database (DefaultGaitPatternFll): to a new file, an
+// FLL file of rabbit's, or standard output (-).
 int RunFisGenerate(const std::string& gaits_dir, const std::string& out, bool quiet) {
   namespace fs = std::filesystem;
-  const std::string index_path = (fs::path(gaits_dir) / "index.csv").string();
-  const std::vector<GaitIndexEntry> index =
-      GaitsOfRole(ReadGaitIndex(index_path), GaitRole::kSpeed);
-  std::vector<double> v;
-  for (const GaitIndexEntry& e : index) {
-    if (!v.empty() && !(e.measured_v_m > v.back())) {
-      throw InputError(
-          index_path, 0, "measured_v_m",
-          "the gaits must be listed by strictly increasing measured velocity (" + e.name + ")");
-    }
-    v.push_back(e.measured_v_m);
-  }
-  if (v.size() < 2 || v.size() > kMaxGaitPatternGaits) {
-    throw InputError(index_path, 0, "",
-                     "the gait pattern needs 2 to " + std::to_string(kMaxGaitPatternGaits) +
-                         " speed gaits, found " + std::to_string(v.size()));
-  }
+  const std::string reference = fs::exists(fs::path(gaits_dir) / kIndexFile)
+                                    ? gaits_dir
+                                    : ReferenceDirOf(GaitDatabaseRoot(gaits_dir));
   if (!IsStandardOutput(out)) {  // a new file, or an FLL file to replace
     CheckOwnedFile("--out", out, "Engine:", "an FLL file", /*skip_comments=*/true);
   }
-  const std::string text = ToFll(DefaultGaitPattern(v), DefaultGaitPatternComment(v));
+  size_t n = 0;
+  const std::string text = DefaultGaitPatternFll(reference, &n);
   WriteOutputFile(out, [&text](std::ostream& o) { o << text; });
   if (!quiet) {
     std::fprintf(IsStandardOutput(out) ? stderr : stdout, "wrote %s: N_r = %zu gaits, %zu rules\n",
-                 out.c_str(), v.size(), 5 * v.size());
+                 out.c_str(), n, 5 * n);
   }
   return 0;
+}
+
+// --gaits DIR, and the older --dir as a hidden alias of it (counted as --gaits, so that the data
+// root's default does not replace what the user gave); both accept a database or its reference/.
+void DatabaseOption(CLI::App* cmd, std::string* dir) {
+  CLI::Option* gaits = DataDefault(
+      cmd,
+      cmd->add_option("--gaits", *dir,
+                      "Gait database folder, or its reference/ folder (a default is below the "
+                      "data root)"),
+      dir);
+  cmd->add_option("--dir", *dir, "Same as --gaits (older form)")
+      ->group("")
+      ->each([gaits](const std::string& value) { gaits->add_result(value); });
 }
 
 }  // namespace
@@ -261,14 +225,9 @@ int RunFisGenerate(const std::string& gaits_dir, const std::string& out, bool qu
 Command RegisterTrain(CLI::App* app) {
   auto a = std::make_shared<TrainArgs>();
   CLI::App* cmd = app->add_subcommand("train", "Train the CMACs of every reference gait");
-  DataDefault(cmd,
-              cmd->add_option("--gaits", a->gaits,
-                              "Gait database folder (a default is below the data root)"),
-              &a->gaits);
-  DataDefault(cmd,
-              cmd->add_option("--out,-o", a->out,
-                              "Networks folder to write (a default is below the data root)"),
-              &a->out);
+  DatabaseOption(cmd, &a->gaits);
+  cmd->add_option("--out,-o", a->out,
+                  "Networks folder to write (default: the database's networks/)");
   cmd->add_option("--method", a->method, "ceres (sparse least squares) or lms (eq. 7)")
       ->check(CLI::IsMember({"ceres", "lms"}));
   cmd->add_option("--beta", a->beta, "LMS: learning rate, in (0, 1]");
@@ -299,14 +258,11 @@ Command RegisterFis(CLI::App* app) {
       eval->add_option("--networks", a->networks,
                        "Networks folder, read with --e-deg (a default is below the data root)"),
       &a->networks);
-  auto gen_gaits = std::make_shared<std::string>("gaits/reference");
+  auto gen_gaits = std::make_shared<std::string>("gaits");
   auto gen_out = std::make_shared<std::string>("gaits/gait_pattern.fll");
   CLI::App* gen = fis->add_subcommand(
       "generate", "Write the default gait pattern (Table 3 generalised) for a gait database");
-  DataDefault(gen,
-              gen->add_option("--gaits", *gen_gaits,
-                              "Gait database folder (a default is below the data root)"),
-              gen_gaits.get());
+  DatabaseOption(gen, gen_gaits.get());
   DataDefault(
       gen,
       gen->add_option("--out,-o", *gen_out,

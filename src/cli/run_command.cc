@@ -30,6 +30,7 @@
 #include "cli/data_root.h"
 #include "cli/run_summary.h"
 #include "cli/flag_checks.h"
+#include "rabbit/gait/database_layout.h"
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/output_ownership.h"
@@ -58,6 +59,7 @@ struct RunArgs {
   int jobs = 0;
   std::string filter;
   std::string params;
+  std::string gaits;  // a gait database replacing every walker scenario's
   std::string shard_text;
   bool resume = false;
   bool quiet = false;
@@ -420,6 +422,7 @@ int RunRun(RunArgs args) {
   RunAgreed([&] {
     ParamOverlay overlay;
     if (!args.params.empty()) overlay = LoadParamOverlay(args.params);
+    if (!args.gaits.empty()) overlay.gait_database = GaitDatabaseRoot(args.gaits);
     for (const std::string& path : args.suites) suites.push_back(LoadSuite(path, &overlay));
     for (const Suite& s : suites) {
       plans.push_back(PlanBatch(s, args.filter));
@@ -556,6 +559,9 @@ Command RegisterRun(CLI::App* app) {
   cmd->add_option("--params", args->params,
                   "Parameter overlay (TOML [params], e.g. a tuning job's best.toml) over every "
                   "scenario's settings (default: none)");
+  cmd->add_option("--gaits", args->gaits,
+                  "Gait database (folder with reference/, networks/, walker.csv) for every walker "
+                  "scenario (default: the one each scenario names)");
   cmd->add_option(
       "--shard", args->shard_text,
       "Run only shard I of N (e.g. 2/8): the jobs i of each suite with i mod N = I-1, "

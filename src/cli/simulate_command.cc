@@ -7,6 +7,7 @@
 
 #include "cli/commands.h"
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/gait/database_layout.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/output_ownership.h"
 #include "rabbit/model/model.h"
@@ -25,6 +26,7 @@ struct SimulateArgs {
   std::string out;
   std::string integrator;
   std::string params;
+  std::string gaits;
   bool quiet = false;
 };
 
@@ -35,6 +37,7 @@ int RunSimulate(const SimulateArgs& args) {
   }
   ParamOverlay overlay;
   if (!args.params.empty()) overlay = LoadParamOverlay(args.params);
+  if (!args.gaits.empty()) overlay.gait_database = GaitDatabaseRoot(args.gaits);
   Scenario scenario = LoadScenario(args.scenario, &overlay);
   if (!args.integrator.empty()) {
     ParseIntegratorName(args.integrator, &scenario.options.integrator.kind);  // checked by CLI11
@@ -110,6 +113,8 @@ Command RegisterSimulate(CLI::App* app) {
   cmd->add_option("--params", args->params,
                   "Parameter overlay (TOML [params], e.g. a tuning job's best.toml) over the "
                   "scenario's settings (default: none)");
+  cmd->add_option("--gaits", args->gaits,
+                  "Gait database for a walker scenario (folder; default: the one it names)");
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but errors");
   return {cmd, [args] { return RunSimulate(*args); }};
 }

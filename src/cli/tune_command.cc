@@ -9,6 +9,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "rabbit/gait/database_layout.h"
 #include "rabbit/io/error.h"
 #include "rabbit/scenario/ranks.h"
 #include "tuner.h"
@@ -20,6 +21,7 @@ struct TuneArgs {
   std::string job;
   std::string shard;
   std::string params;
+  std::string gaits;
   TuneOptions options;
 };
 
@@ -38,6 +40,7 @@ int RunTuneCommand(TuneArgs args) {
   RunAgreed([&] {
     ParamOverlay overlay;
     if (!args.params.empty()) overlay = LoadParamOverlay(args.params);
+    if (!args.gaits.empty()) overlay.gait_database = GaitDatabaseRoot(args.gaits);
     job = LoadTuneJob(args.job, &overlay);
   });
   args.options.threads = ThreadsPerRank(args.options.threads);
@@ -108,6 +111,8 @@ Command RegisterTune(CLI::App* app) {
   cmd->add_option("--params", args->params,
                   "Parameter overlay under the tuned values (over the job's own `params`; default: "
                   "none)");
+  cmd->add_option("--gaits", args->gaits,
+                  "Gait database for every walker scenario (folder; default: the one each names)");
   cmd->add_option("--gnuplot", args->options.gnuplot,
                   "gnuplot executable for the figures (searched on PATH without a '/')");
   cmd->add_flag("--resume", args->options.resume,

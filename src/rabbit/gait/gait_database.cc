@@ -103,7 +103,13 @@ std::string ModelHash(const ModelParams& p) {
 }
 
 void WriteGaitFile(const GaitRecord& g, const std::string& path) {
-  WriteFileAtomically(path, [&g](std::ostream& out) {
+  const std::string text = GaitFileText(g);
+  WriteFileAtomically(path, [&text](std::ostream& out) { out << text; });
+}
+
+std::string GaitFileText(const GaitRecord& g) {
+  std::ostringstream out;
+  {
     out << "# format = " << kGaitFormat << "\n";
     out << "# name = " << g.name << "\n";
     out << std::setprecision(17);  // exact round trip: the gait is re-walked from these
@@ -119,7 +125,8 @@ void WriteGaitFile(const GaitRecord& g, const std::string& path) {
     for (const SwingSample& s : g.swing) {
       out << s.e << ',' << s.q1 << ',' << s.q2 << ',' << s.qd1 << ',' << s.qd2 << "\n";
     }
-  });
+  }
+  return out.str();
 }
 
 GaitRecord ReadGaitFile(const std::string& path) {

@@ -45,6 +45,7 @@ struct GaitRecord {
 std::string ModelHash(const ModelParams& params);
 
 void WriteGaitFile(const GaitRecord& gait, const std::string& path);  // atomic
+std::string GaitFileText(const GaitRecord& gait);                     // what WriteGaitFile writes
 GaitRecord ReadGaitFile(const std::string& path);                     // throws InputError
 
 // index.csv: name,file,target_v_m,measured_v_m,l_step_m,t_step_s,steps,source,role,

@@ -28,6 +28,9 @@ struct ParamValue {
 struct ParamOverlay {
   std::string file;  // names the overlay in errors ("" for one built in memory)
   std::vector<ParamValue> values;
+  // A gait database (folder) replacing every walker scenario's `database`, `fll`, `networks` and
+  // `gaits` (`--gaits DIR`); empty: none. Not counted by empty().
+  std::string gait_database;
 
   bool empty() const { return values.empty(); }
   // path -> value, for TomlReader::WithPatches.

@@ -264,6 +264,17 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
                              scenario.name + "\" (" + scenario.file + ", controller.planner)");
       }
     }
+    // The database's per-gait settings, in the gait pattern's order (all 0: none, the chapter's
+    // walker).
+    params.rule_share.clear();
+    bool any_share = false;
+    for (const std::string& name : library->gait_names) {
+      const auto found = scenario.gait_settings.find(name);
+      const double share = found == scenario.gait_settings.end() ? 0.0 : found->second.rule_share;
+      params.rule_share.push_back(share);
+      any_share = any_share || share != 0.0;
+    }
+    if (!any_share) params.rule_share.clear();
     std::unique_ptr<SwingPattern> pattern;
     if (variant == "multi_cmac") {
       // The pure multi-input CMAC pattern: it has no per-gait weights to share the gaits' own

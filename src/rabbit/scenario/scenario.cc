@@ -11,6 +11,7 @@
 
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/bounded_read.h"
+#include "rabbit/gait/walker_settings.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/learn/fll.h"
@@ -570,17 +571,39 @@ void ReadRecovery(TomlReader r, RecoveryParams* p) {
 
 // type = "fuzzy_cmac": the chapter's walker (see FuzzyCmacWalker). Reads the gait database to
 // choose the start gait; the walk starts from its documented walking start.
-void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
+// The gait database (`database`, default the shipped one beside the scenario folder) gives the
+// gait pattern's files and the per-gait walker settings; `fll`, `networks` and `gaits` may name
+// other files for one part. A database override (`rabbit run --gaits DIR`) replaces all of them.
+void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_override) {
+  namespace fs = std::filesystem;
   s->controller = ControllerKind::kFuzzyCmac;
   GaitPatternFiles& f = s->pattern;
-  auto path_of = [t](const std::string& key, const std::string& default_value) {
-    const std::string path = t->String(key, default_value);
-    if (path.empty()) t->Fail(key, "an empty path (name a file or folder, or leave the key out)");
-    return ResolvePath(*t, path);
+  // A path key given as "" is a mistake (it names nothing); left out, it follows `database`.
+  auto path_key = [t](const std::string& key) {
+    const std::string path = t->String(key, "");
+    if (t->Has(key) && path.empty()) {
+      t->Fail(key, "an empty path (name a file or folder, or leave the key out)");
+    }
+    return path;
   };
-  f.fll = path_of("fll", "../gaits/gait_pattern.fll");
-  f.networks = path_of("networks", "../gaits/networks");
-  f.gaits = path_of("gaits", "../gaits/reference");
+  const std::string database_key = t->String("database", "../gaits");
+  if (database_key.empty()) t->Fail("database", "an empty path (name the gait database's folder)");
+  const std::string database = ResolvePath(*t, database_key);
+  const std::string fll = path_key("fll");
+  const std::string networks = path_key("networks");
+  const std::string gaits = path_key("gaits");
+  if (!database_override.empty()) {
+    f.database = database_override;
+    f.fll = (fs::path(f.database) / "gait_pattern.fll").string();
+    f.networks = (fs::path(f.database) / "networks").string();
+    f.gaits = (fs::path(f.database) / "reference").string();
+  } else {
+    f.database = database;
+    f.fll = fll.empty() ? (fs::path(database) / "gait_pattern.fll").string() : ResolvePath(*t, fll);
+    f.networks =
+        networks.empty() ? (fs::path(database) / "networks").string() : ResolvePath(*t, networks);
+    f.gaits = gaits.empty() ? (fs::path(database) / "reference").string() : ResolvePath(*t, gaits);
+  }
   ReadMembershipSets(t->Table("sets"), *CachedFll(f.fll), s);
   const std::vector<GaitIndexEntry> index =
       ReadGaitIndex((std::filesystem::path(f.gaits) / "index.csv").string());
@@ -628,11 +651,28 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
   w.v_m_average_steps =
       static_cast<int>(t->Integer("v_m_average_steps", w.v_m_average_steps, 1, 100));
   w.fis_v_lead = t->Double("fis_v_lead", w.fis_v_lead);
-  w.rule_share = t->Doubles("rule_share", w.rule_share);
-  if (!w.rule_share.empty() && w.rule_share.size() != index.size()) {
-    t->Fail("rule_share", "expected one factor per reference gait (" +
-                              std::to_string(index.size()) + " in " + f.gaits + ")");
+  if (t->Has("rule_share")) {
+    t->Fail("rule_share",
+            "per-gait settings are no longer given in a scenario: the rule share of each gait "
+            "is the rule_share column of the gait database's walker.csv (" +
+                (fs::path(f.database) / kWalkerSettingsFile).string() +
+                "; docs/gait-database.md); remove this key");
   }
+  // Per-gait settings by name, checked here so that a bad file fails the load (exit 2).
+  // gait_rules = false: the chapter's walker (PD tracking of the pattern only), whatever the
+  // database's rule shares.
+  const bool gait_rules = t->Bool("gait_rules", true);
+  s->gait_settings = ReadDatabaseWalkerSettings(f.database);
+  for (const auto& [name, settings] : s->gait_settings) {
+    const bool listed = std::any_of(index.begin(), index.end(),
+                                    [&](const GaitIndexEntry& e) { return e.name == name; });
+    if (!listed) {
+      throw InputError((fs::path(f.database) / kWalkerSettingsFile).string(), 0, name,
+                       "walker settings for gait \"" + name + "\", which " + f.gaits +
+                           "/index.csv does not list");
+    }
+  }
+  if (!gait_rules) s->gait_settings.clear();
   w.d_obs_max = t->Double("d_obs_max", w.d_obs_max);
   w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
   w.lift_clearance = t->Double("lift_clearance", w.lift_clearance);
@@ -663,8 +703,7 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s) {
     pp.feedback_gain = pt.Double("feedback_gain", pp.feedback_gain);
     pp.bias_initial = pt.Double("bias_initial", pp.bias_initial);
     pp.bias_max = pt.Double("bias_max", pp.bias_max);
-    pp.recovery_steps =
-        static_cast<int>(pt.Integer("recovery_steps", pp.recovery_steps, 0, 100));
+    pp.recovery_steps = static_cast<int>(pt.Integer("recovery_steps", pp.recovery_steps, 0, 100));
     pp.stretch = pt.Double("stretch", pp.stretch);
     pp.over_lift_trail = pt.Double("over_lift_trail", pp.over_lift_trail);
     pp.over_lift_release = pt.Double("over_lift_release", pp.over_lift_release);
@@ -794,9 +833,12 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name, const Pa
     *settings = std::move(*observed);
     return s;
   }
+  const std::string database_override = overlay != nullptr ? overlay->gait_database : "";
   if (overlay != nullptr && !overlay->empty()) {
     TomlReader patched = root.WithPatches(overlay->Patches());
-    Scenario s = ReadScenario(patched, default_name, nullptr);
+    ParamOverlay database_only;
+    database_only.gait_database = database_override;
+    Scenario s = ReadScenario(patched, default_name, &database_only);
     const std::vector<std::string> unused = patched.UnusedPatches();
     if (!unused.empty()) {
       overlay->Fail(unused.front(), "names no numeric setting of scenario \"" + s.name + "\" (" +
@@ -861,7 +903,7 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name, const Pa
       if (!root.Has("velocity")) {
         root.Fail("velocity", "the fuzzy_cmac controller needs a [velocity] profile");
       }
-      ReadFuzzyCmac(&controller, &s);
+      ReadFuzzyCmac(&controller, &s, database_override);
     }
     // The walk starts from the documented walking start: [initial] takes no keys.
     TomlReader initial = root.Table("initial");

@@ -16,6 +16,7 @@
 #include "rabbit/control/basic_controllers.h"
 #include "rabbit/control/fuzzy_cmac_walker.h"
 #include "rabbit/gait/gait_walk.h"
+#include "rabbit/gait/walker_settings.h"
 #include "rabbit/learn/multi_cmac_pattern.h"
 #include "rabbit/model/params.h"
 #include "rabbit/scenario/stall_watch.h"
@@ -56,9 +57,11 @@ struct PassCriteria {
   StallCriteria stall;
 };
 
-// The walker's gait pattern and reference gaits, as paths (resolved against the scenario file).
+// The walker's gait database and, within it (or named apart), its gait pattern and reference
+// gaits, as paths (resolved against the scenario file).
 struct GaitPatternFiles {
   std::string fll, networks, gaits;
+  std::string database;  // the folder with walker.csv (docs/gait-database.md)
 };
 
 struct Scenario {
@@ -86,6 +89,9 @@ struct Scenario {
   // functions (else empty: the FLL file's, from the gait library).
   std::optional<TsFis> fis;
   std::string start_gait;
+  // The per-gait walker settings of the database (walker.csv), by gait name; RunScenario turns
+  // them into WalkerParams::rule_share in the gait pattern's order.
+  std::map<std::string, GaitWalkerSettings> gait_settings;
   std::vector<std::string> baselines;
   // The multi_cmac baseline's settings ([controller.multi_cmac]).
   MultiCmacPatternOptions multi_cmac;

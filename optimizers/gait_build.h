@@ -1,0 +1,57 @@
+// `rabbit gaits build`: a whole gait database from a targets file. Synthesizes every target that
+// needs it (on threads, and dealt over MPI ranks), re-walks each to record it, trains the networks,
+// writes the fuzzy system, the per-gait walker settings and the manifest, then runs the targets'
+// check suite on the result. Deterministic: the same targets give the same bytes whatever the
+// number of threads or ranks. Resumable: a gait whose inputs (target, model, simulator settings,
+// program version) and file are unchanged is kept. See docs/gait-database.md.
+#ifndef RABBIT_OPTIMIZERS_GAIT_BUILD_H_
+#define RABBIT_OPTIMIZERS_GAIT_BUILD_H_
+
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "gait_targets.h"
+#include "network_training.h"
+#include "rabbit/gait/gait_database.h"
+
+namespace rabbit {
+
+// Synthesizes one gait (SynthesizeGait) and re-walks it for 20 s to record it (30+ steps, the
+// swing averaged over the last 10; a gait slower than 30 steps in 20 s, but for 13 or more, is
+// walked again for the time of 31 of its steps). True when the gait meets the acceptance
+// criteria: the synthesis's, no fall, 30 steps, the last 10 within 0.03 m/s of the target, L_step
+// spread under 1 cm (within 0.03 m of a requested step length). *walks: simulations run; when
+// the gait misses, *limits says what stops it (criteria, bounds, motor limits, budget).
+bool SynthesizeReferenceGait(const SynthesisOptions& options, const ModelParams& model,
+                             const std::string& name, bool quiet, GaitRecord* record,
+                             int* walks = nullptr, std::vector<std::string>* limits = nullptr);
+
+// The canonical text of the simulator settings synthesis walks with (every default that shapes a
+// walk), hashed into each gait's inputs.
+std::string SimulatorSettingsText();
+
+struct GaitBuildOptions {
+  std::string out;  // the database folder: new, empty, or a database (has manifest.csv)
+  int threads = 0;  // per rank (0: all cores)
+  NetworkTrainingOptions training;
+  std::function<void(const std::string&)> log;  // progress lines (rank 0 only); may be empty
+};
+
+struct GaitBuildResult {
+  std::vector<std::string> built, kept, missed, check_failures;
+  long walks = 0;  // simulations of the synthesis, over all ranks
+  double synthesis_seconds = 0.0;
+  double wall_seconds = 0.0;
+  // 0 all built and checked; 1 a target missed its criteria (nothing written for it) or a check
+  // walk failed.
+  int exit_code() const { return missed.empty() && check_failures.empty() ? 0 : 1; }
+};
+
+// Throws InputError (nothing written) when `out` exists and is neither empty nor a database, or is
+// a database whose manifest, index and files disagree. Every rank calls it (a collective).
+GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOptions& options);
+
+}  // namespace rabbit
+
+#endif  // RABBIT_OPTIMIZERS_GAIT_BUILD_H_

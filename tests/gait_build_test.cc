@@ -1,0 +1,230 @@
+// `rabbit gaits build` (optimizers/gait_build.h): the two cheapest shipped gaits rebuilt byte for
+// byte, the same bytes on 1 and 2 threads, resume (an unchanged gait kept, a changed one rebuilt),
+// a target that misses its criteria (nothing written for it), and the bad inputs: targets with
+// the same name or (v_m, l_step), impossible bounds, unknown keys, reserved names, an --out that
+// is not a database, a database whose manifest and files disagree (InputError, nothing written).
+#include "gait_build.h"
+
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "gait_manifest.h"
+#include "gait_targets.h"
+#include "rabbit/gait/walker_settings.h"
+#include "rabbit/io/error.h"
+
+namespace rabbit {
+namespace {
+
+namespace fs = std::filesystem;
+const std::string kRoot = RABBIT_SOURCE_DIR;
+
+std::string Bytes(const fs::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+// The shipped targets of vm_0.30 and vm_0.40 (the cheapest: a few walks each), as in
+// gaits/targets.toml.
+const char* const kTwoGaits = R"([[gait]]
+v_m = 0.3
+[gait.bounds]
+qr1_dsw_deg = [10, 60]
+q0_d_deg = [-5, 25]
+pulse_torque_nm = [0, 100]
+start_speed_m_s = [0.1, 1.5]
+[gait.walker]
+rule_share = 1
+
+[[gait]]
+v_m = 0.4
+l_step = 0.24
+)";
+
+class GaitBuildTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rabbit_gait_build_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Write(const std::string& name, const std::string& text) {
+    const fs::path path = dir_ / name;
+    std::ofstream(path) << text;
+    return path.string();
+  }
+  GaitBuildResult Build(const std::string& targets, const std::string& out, int threads) {
+    GaitBuildOptions options;
+    options.out = (dir_ / out).string();
+    options.threads = threads;
+    return BuildGaitDatabase(ReadGaitTargets(targets), options);
+  }
+  void ExpectTargetsError(const std::string& text, int line, const std::string& key,
+                          const std::string& fragment) {
+    const std::string path = Write("bad.toml", text);
+    try {
+      ReadGaitTargets(path);
+      ADD_FAILURE() << "no error for:\n" << text;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), path);
+      EXPECT_EQ(e.line(), line) << e.what();
+      EXPECT_EQ(e.key(), key) << e.what();
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  }
+  fs::path dir_;
+};
+
+TEST_F(GaitBuildTest, RebuildsShippedGaitsByteForByteWhateverTheThreads) {
+  const std::string targets = Write("targets.toml", kTwoGaits);
+  const GaitBuildResult one = Build(targets, "one", 1);
+  EXPECT_EQ(one.exit_code(), 0);
+  EXPECT_EQ(one.built, (std::vector<std::string>{"vm_0.30", "vm_0.40"}));
+  for (const char* gait : {"vm_0.30", "vm_0.40"}) {
+    const std::string file = std::string("reference/") + gait + ".csv";
+    EXPECT_EQ(Bytes(dir_ / "one" / file), Bytes(kRoot + "/gaits/" + file)) << file;
+  }
+  const std::string manifest = Bytes(dir_ / "one" / "manifest.csv");
+  EXPECT_EQ(manifest.rfind("# format = rabbit-gait-manifest/1\n", 0), 0u) << manifest;
+  EXPECT_EQ(ReadWalkerSettings((dir_ / "one" / "walker.csv").string()).at("vm_0.30").rule_share,
+            1.0);
+  // Two threads: every file the same.
+  Build(targets, "two", 2);
+  std::vector<std::string> files;
+  for (const auto& e : fs::recursive_directory_iterator(dir_ / "one")) {
+    if (!e.is_regular_file()) continue;
+    const fs::path rel = fs::relative(e.path(), dir_ / "one");
+    files.push_back(rel.string());
+    EXPECT_EQ(Bytes(e.path()), Bytes(dir_ / "two" / rel)) << rel;
+  }
+  // gaits, index, networks, their index and marker, fll, walker.csv, manifest
+  EXPECT_EQ(files.size(), 2u + 1u + 8u + 1u + 1u + 1u + 1u + 1u);
+  EXPECT_FALSE(fs::exists(dir_ / "one" / ".build"));
+}
+
+TEST_F(GaitBuildTest, ResumeKeepsUnchangedGaitsAndRebuildsChangedOnes) {
+  const std::string targets = Write("targets.toml", kTwoGaits);
+  Build(targets, "db", 1);
+  const std::string manifest = Bytes(dir_ / "db" / "manifest.csv");
+  GaitBuildResult again = Build(targets, "db", 1);
+  EXPECT_TRUE(again.built.empty());
+  EXPECT_EQ(again.kept.size(), 2u);
+  EXPECT_EQ(Bytes(dir_ / "db" / "manifest.csv"), manifest);
+  // An incomplete staging folder left by a killed build is dropped.
+  fs::create_directories(dir_ / "db" / ".build" / "reference");
+  std::ofstream(dir_ / "db" / ".build" / "reference" / "half.csv") << "x";
+  EXPECT_EQ(Build(targets, "db", 1).kept.size(), 2u);
+  EXPECT_FALSE(fs::exists(dir_ / "db" / ".build"));
+  // A changed target (its seed) is rebuilt; the other is kept.
+  std::string changed = kTwoGaits;
+  changed += "seed = 2\n";
+  const std::string targets2 = Write("targets2.toml", changed);
+  again = Build(targets2, "db", 1);
+  EXPECT_EQ(again.built, std::vector<std::string>{"vm_0.40"});
+  EXPECT_EQ(again.kept, std::vector<std::string>{"vm_0.30"});
+}
+
+TEST_F(GaitBuildTest, MissedTargetExitsOneAndWritesNothingForIt) {
+  const std::string targets = Write(
+      "targets.toml", std::string(kTwoGaits) + "[[gait]]\nv_m = 0.9\nl_step = 0.47\nbudget = 1\n");
+  const GaitBuildResult r = Build(targets, "db", 2);
+  EXPECT_EQ(r.exit_code(), 1);
+  EXPECT_EQ(r.missed, std::vector<std::string>{"vm_0.90"});
+  EXPECT_FALSE(fs::exists(dir_ / "db" / "reference" / "vm_0.90.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "db" / "networks" / "vm_0.90_q_i1.csv"));
+  EXPECT_TRUE(fs::exists(dir_ / "db" / "reference" / "vm_0.40.csv"));
+  EXPECT_EQ(Bytes(dir_ / "db" / "manifest.csv").find("vm_0.90"), std::string::npos);
+}
+
+TEST_F(GaitBuildTest, RefusesAnOutThatIsNotADatabaseOrDisagreesWithItsManifest) {
+  const std::string targets = Write("targets.toml", kTwoGaits);
+  fs::create_directories(dir_ / "other");
+  std::ofstream(dir_ / "other" / "notes.txt") << "mine\n";
+  EXPECT_THROW(Build(targets, "other", 1), InputError);
+  EXPECT_EQ(Bytes(dir_ / "other" / "notes.txt"), "mine\n");
+  EXPECT_EQ(std::distance(fs::directory_iterator(dir_ / "other"), fs::directory_iterator()), 1);
+  // A database whose gait file was edited: refused, untouched.
+  Build(targets, "db", 1);
+  std::ofstream(dir_ / "db" / "reference" / "vm_0.40.csv", std::ios::app) << "\n";
+  const std::string edited = Bytes(dir_ / "db" / "reference" / "vm_0.40.csv");
+  try {
+    Build(targets, "db", 1);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "reference/vm_0.40.csv") << e.what();
+  }
+  EXPECT_EQ(Bytes(dir_ / "db" / "reference" / "vm_0.40.csv"), edited);
+  // A file the manifest does not list.
+  fs::resize_file(dir_ / "db" / "reference" / "vm_0.40.csv", edited.size() - 1);
+  std::ofstream(dir_ / "db" / "reference" / "extra.csv") << "x\n";
+  EXPECT_THROW(Build(targets, "db", 1), InputError);
+}
+
+TEST_F(GaitBuildTest, BadTargetsNameFileLineAndKey) {
+  ExpectTargetsError("[[gait]]\nv_m = 0.4\n[[gait]]\nv_m = 0.5\nname = \"vm_0.40\"\n", 5,
+                     "gait[2].name", "second target named");
+  ExpectTargetsError(
+      "[[gait]]\nv_m = 0.4\nl_step = 0.2\n[[gait]]\nv_m = 0.4\nl_step = 0.2\nname = \"b\"\n", 5,
+      "gait[2].v_m", "same (v_m, l_step)");
+  ExpectTargetsError("[[gait]]\nv_m = 0.4\n[gait.bounds]\nhip_kp = [100, 50]\n", 4,
+                     "gait[1].bounds.hip_kp", "lower < upper");
+  ExpectTargetsError("[[gait]]\nv_m = 0.4\nspeed = 3\n", 3, "gait[1].speed", "");
+  ExpectTargetsError("[[gait]]\nv_m = 0.4\n[gait.walker]\nrule_shares = 1\n", 4,
+                     "gait[1].walker.rule_shares", "");
+  ExpectTargetsError("[[gait]]\nv_m = 0.4\n[gait.walker]\nrule_share = 2\n", 4,
+                     "gait[1].walker.rule_share", "[0, 1]");
+  ExpectTargetsError("[[gait]]\nv_m = 0.4\nname = \"index\"\n", 3, "gait[1].name", "database's own files");
+  ExpectTargetsError("[[gait]]\nv_m = 0.4\nname = \"manifest\"\n", 3, "gait[1].name", "database's own files");
+}
+
+// The command: bad targets exit 2 naming the file and key, and write nothing.
+TEST_F(GaitBuildTest, CommandExitsTwoOnBadTargetsAndWritesNothing) {
+  const std::string bad = Write("bad.toml", "[[gait]]\nv_m = 0.4\nname = \"index\"\n");
+  const fs::path out = dir_ / "out";
+  const fs::path err = dir_ / "err.txt";
+  const std::string command = std::string(RABBIT_CLI_PATH) + " gaits build " + bad + " --out " +
+                              out.string() + " -q 2> " + err.string();
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  EXPECT_FALSE(fs::exists(out));
+  const std::string message = Bytes(err);
+  EXPECT_NE(message.find("bad.toml:3"), std::string::npos) << message;
+  EXPECT_NE(message.find("gait[1].name"), std::string::npos) << message;
+}
+
+TEST(WalkerSettingsTest, RoundTripAndBadFiles) {
+  const fs::path dir = fs::temp_directory_path() / ("rabbit_walker_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string path = (dir / "walker.csv").string();
+  WriteWalkerSettings({{"a", {1.0}}, {"b", {0.25}}}, path);
+  const auto back = ReadWalkerSettings(path);
+  EXPECT_EQ(back.at("a").rule_share, 1.0);
+  EXPECT_EQ(back.at("b").rule_share, 0.25);
+  std::ofstream(path) << "name,rule_share,gain\na,1,2\n";
+  EXPECT_THROW(ReadWalkerSettings(path), InputError);
+  std::ofstream(path) << "name,rule_share\na,1\na,0\n";
+  try {
+    ReadWalkerSettings(path);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_EQ(e.key(), "name");
+  }
+  std::ofstream(path) << "name,rule_share\na,1.5\n";
+  EXPECT_THROW(ReadWalkerSettings(path), InputError);
+  fs::remove_all(dir);
+}
+
+}  // namespace
+}  // namespace rabbit
