@@ -281,8 +281,9 @@ std::string SimulatorSettingsText() {
     << ExactNumber(o.integrator.max_step) << ' ' << o.integrator.max_steps_per_call << ' '
     << o.integrator.order << "\nfall " << ExactNumber(o.fall.min_hip_height) << ' '
     << ExactNumber(o.fall.max_trunk_pitch) << ' ' << o.fall.enabled << "\nrecord "
-    << ExactNumber(kRecordWalk) << ' ' << kRecordSteps << ' ' << ExactNumber(kAcceptedVelocityError) << ' '
-    << ExactNumber(kAcceptedStepSpread) << ' ' << ExactNumber(kAcceptedStepLengthError) << "\n";
+    << ExactNumber(kRecordWalk) << ' ' << kRecordSteps << ' ' << ExactNumber(kAcceptedVelocityError)
+    << ' ' << ExactNumber(kAcceptedStepSpread) << ' ' << ExactNumber(kAcceptedStepLengthError)
+    << "\n";
   return t.str();
 }
 

@@ -161,10 +161,9 @@ std::string TargetInputsText(const GaitTarget& g) {
                      ExactNumber(o.target_v_m) + "\nl_step " + ExactNumber(o.target_l_step) +
                      "\nseed " + std::to_string(o.seed) + "\nbudget " + std::to_string(o.budget) +
                      "\nwalk_duration " + ExactNumber(o.walk_duration) + "\nwindow " +
-                     std::to_string(o.window) + "\nlocal " + o.local_algorithm +
-                     "\nv_tolerance " + ExactNumber(o.v_tolerance) + "\nl_tolerance " +
-                     ExactNumber(o.l_tolerance) + "\nmax_l_spread " + ExactNumber(o.max_l_spread) +
-                     "\n";
+                     std::to_string(o.window) + "\nlocal " + o.local_algorithm + "\nv_tolerance " +
+                     ExactNumber(o.v_tolerance) + "\nl_tolerance " + ExactNumber(o.l_tolerance) +
+                     "\nmax_l_spread " + ExactNumber(o.max_l_spread) + "\n";
   for (int i = 0; i < kSynthesisParams; ++i) {
     text += std::string("bounds ") + kSynthesisParamNames[i] + " " +
             ExactNumber(o.bounds[i].first) + " " + ExactNumber(o.bounds[i].second) + "\n";

@@ -36,9 +36,8 @@ bool NetworkTrainingOptions::IsValid(std::string* error) const {
 
 CmacOptions NetworkStructure(const std::vector<GaitRecord>& gaits, double margin_deg) {
   double e_min = std::numeric_limits<double>::infinity(), e_max = -e_min;
-  const bool has_speed = std::any_of(gaits.begin(), gaits.end(), [](const GaitRecord& g) {
-    return g.role == GaitRole::kSpeed;
-  });
+  const bool has_speed = std::any_of(
+      gaits.begin(), gaits.end(), [](const GaitRecord& g) { return g.role == GaitRole::kSpeed; });
   for (const GaitRecord& g : gaits) {
     if (has_speed && g.role != GaitRole::kSpeed) continue;
     for (const SwingSample& s : g.swing) {

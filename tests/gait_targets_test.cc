@@ -45,11 +45,14 @@ class GaitTargetsTest : public ::testing::Test {
 };
 
 TEST_F(GaitTargetsTest, NamesRolesAndBounds) {
-  const std::vector<GaitTarget> t = ReadGaitTargets(Write("[bounds]\nq0_d_deg = [-5, 20]\n"
-            "[[gait]]\nv_m = 0.6\nl_step = 0.34\n"
-            "[[gait]]\nv_m = 0.6\nl_step = 0.27\nrole = \"library\"\nbudget = 900\n"
-            "[gait.bounds]\nqr1_dsw_deg = [10, 60]\n"
-            "[[gait]]\nv_m = 0.6\nl_step = 0.3\nrole = \"library\"\nname = \"short\"\nseed = 4\n")).gaits;
+  const std::vector<GaitTarget> t =
+      ReadGaitTargets(Write("[bounds]\nq0_d_deg = [-5, 20]\n"
+                            "[[gait]]\nv_m = 0.6\nl_step = 0.34\n"
+                            "[[gait]]\nv_m = 0.6\nl_step = 0.27\nrole = \"library\"\nbudget = 900\n"
+                            "[gait.bounds]\nqr1_dsw_deg = [10, 60]\n"
+                            "[[gait]]\nv_m = 0.6\nl_step = 0.3\nrole = \"library\"\nname = "
+                            "\"short\"\nseed = 4\n"))
+          .gaits;
   ASSERT_EQ(t.size(), 3u);
   EXPECT_EQ(t[0].name, "vm_0.60");
   EXPECT_EQ(t[0].role, GaitRole::kSpeed);
@@ -91,8 +94,8 @@ TEST_F(GaitTargetsTest, TheShippedTargetsAreSpeedGaitsAndLibraryCells) {
       EXPECT_EQ(g.name, DefaultGaitName(g.synthesis.target_v_m, 0.0, GaitRole::kSpeed));
     } else {
       EXPECT_GT(g.synthesis.target_l_step, 0.0) << g.name;
-      EXPECT_EQ(g.name,
-                DefaultGaitName(g.synthesis.target_v_m, g.synthesis.target_l_step, GaitRole::kLibrary));
+      EXPECT_EQ(g.name, DefaultGaitName(g.synthesis.target_v_m, g.synthesis.target_l_step,
+                                        GaitRole::kLibrary));
     }
   }
   EXPECT_EQ(speed, 8);

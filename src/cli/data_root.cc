@@ -28,6 +28,7 @@ struct Default {
   CLI::App* command;
   CLI::Option* option;
   std::string* value;
+  CLI::Option* instead = nullptr;  // an option that, given, makes this default unused
 };
 
 std::vector<Default>& Defaults() {
@@ -113,9 +114,16 @@ CLI::Option* DataDefault(CLI::App* command, CLI::Option* option, std::string* va
   return option;
 }
 
+void DataDefaultUnusedWith(CLI::Option* option, CLI::Option* instead) {
+  for (Default& d : Defaults()) {
+    if (d.option == option) d.instead = instead;
+  }
+}
+
 void ResolveDataDefaults() {
   for (const Default& d : Defaults()) {
-    if (d.command->parsed() && d.option->count() == 0 && !d.value->empty()) {
+    if (d.command->parsed() && d.option->count() == 0 && !d.value->empty() &&
+        (d.instead == nullptr || d.instead->count() == 0)) {
       *d.value = DataPath(*d.value);
     }
   }

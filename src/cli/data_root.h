@@ -35,6 +35,9 @@ std::string DataPath(const std::string& relative);
 // taken below the data root when the command runs and the user did not give the option:
 // ResolveDataDefaults, after parsing, does it. Returns `option`.
 CLI::Option* DataDefault(CLI::App* command, CLI::Option* option, std::string* value);
+// The default of `option` is not taken below the data root when `instead` was given (an older
+// flag that names the same thing differently).
+void DataDefaultUnusedWith(CLI::Option* option, CLI::Option* instead);
 void ResolveDataDefaults();
 
 // "data root: DIR (found by: how)", for --version and verbose output.

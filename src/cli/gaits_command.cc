@@ -254,11 +254,12 @@ constexpr const char* kDatabaseHelp =
 // reference folder itself, hidden).
 void DatabaseOption(CLI::App* cmd, std::string* dir, std::string* reference_dir) {
   CLI::Option* gaits = DataDefault(cmd, cmd->add_option("--gaits", *dir, kDatabaseHelp), dir);
-  cmd->add_option("--dir", *reference_dir, "The reference folder itself (older form of --gaits)")
-      ->group("")
-      ->excludes(gaits);
+  CLI::Option* older = cmd->add_option("--dir", *reference_dir,
+                                       "The reference folder itself (older form of --gaits)")
+                           ->group("")
+                           ->excludes(gaits);
+  DataDefaultUnusedWith(gaits, older);
 }
-
 
 }  // namespace
 
@@ -320,7 +321,10 @@ Command RegisterGaits(CLI::App* app) {
   CLI::App* b = gaits->add_subcommand(
       "build",
       "Build a whole gait database from a targets file (synthesis, networks, FLL, manifest)");
-  DataDefault(b, b->add_option("targets", build->targets, "Targets file (TOML; a default is below the data root)"), &build->targets);
+  DataDefault(b,
+              b->add_option("targets", build->targets,
+                            "Targets file (TOML; a default is below the data root)"),
+              &build->targets);
   b->add_option("--out,-o", build->out,
                 "Database folder to write: new, empty, or a database to resume")
       ->required();
@@ -331,7 +335,8 @@ Command RegisterGaits(CLI::App* app) {
             if (s->parsed()) return RunSynthesize(*synth);
             if (g->parsed()) return RunGenerate(*gen);
             if (r->parsed()) {
-              const std::string page = WriteGaitReport(Reference(*report_dir, *report_reference), *report_out);
+              const std::string page =
+                  WriteGaitReport(Reference(*report_dir, *report_reference), *report_out);
               if (!*report_quiet) std::printf("wrote %s\n", page.c_str());
               return 0;
             }

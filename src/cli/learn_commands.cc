@@ -111,8 +111,8 @@ int RunTrain(const TrainArgs& a) {
       const std::string other = a.method == "lms" ? "ceres" : "lms";
       Cmac check(structure);
       const double other_seconds = FitNetwork(other, training, x, y[o], &check);
-      std::fprintf(table, "   (%s: %.4f, %.2f)", other.c_str(),
-                   CmacRmsError(check, x, y[o]) / kDeg, other_seconds * 1e3);
+      std::fprintf(table, "   (%s: %.4f, %.2f)", other.c_str(), CmacRmsError(check, x, y[o]) / kDeg,
+                   other_seconds * 1e3);
     }
     std::fprintf(table, "\n");
   }

@@ -21,8 +21,8 @@ namespace {
 constexpr double kDeg = M_PI / 180.0;
 const char* const kColumns[] = {"e_rad", "q_i1_rad", "q_i2_rad", "qd_i1_rad_s", "qd_i2_rad_s"};
 // The index's columns; an index written before gaits had roles has the first kOldIndexColumns.
-const char* const kIndexColumns[] = {"name",     "file",     "target_v_m", "measured_v_m",
-                                     "l_step_m", "t_step_s", "steps",      "source",
+const char* const kIndexColumns[] = {"name",     "file",           "target_v_m", "measured_v_m",
+                                     "l_step_m", "t_step_s",       "steps",      "source",
                                      "role",     "target_l_step_m"};
 constexpr std::size_t kOldIndexColumns = 8;
 
@@ -295,8 +295,8 @@ std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
     }
     if (c.size() != columns) {
       throw InputError(path, number, "",
-                       "expected " + std::to_string(columns) + " cells (" +
-                           IndexHeader() + "), got " + std::to_string(c.size()));
+                       "expected " + std::to_string(columns) + " cells (" + IndexHeader() +
+                           "), got " + std::to_string(c.size()));
     }
     for (auto [seen, value, key] :
          {std::tuple(&line_of_name, c[0], "name"), std::tuple(&line_of_file, c[1], "file")}) {

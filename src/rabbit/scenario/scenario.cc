@@ -10,8 +10,8 @@
 #include <utility>
 
 #include "rabbit/gait/gait_database.h"
-#include "rabbit/io/bounded_read.h"
 #include "rabbit/gait/walker_settings.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/learn/fll.h"
