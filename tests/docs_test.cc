@@ -40,12 +40,6 @@ namespace fs = std::filesystem;
 
 const std::string kRoot = RABBIT_SOURCE_DIR;
 
-// Docs written on other branches during this development round and linked from ours: a link to
-// one of them may dangle until it is merged. Once a file exists it is checked like any other.
-const std::set<std::string> kWrittenElsewhere = {"docs/gait-database.md"};
-// Product docs being rewritten on another branch; checked once that rewrite is merged (empty
-// this list then).
-const std::set<std::string> kBeingRewritten = {};
 
 std::string Relative(const fs::path& path) { return fs::relative(path, kRoot).generic_string(); }
 
@@ -274,7 +268,7 @@ std::vector<fs::path> ProductDocs() {
                                                                {"optimizers/jobs", ".toml", false},
                                                                {"reports", ".md", false}}) {
     for (const fs::path& f : Files(dir, ext, recursive)) {
-      if (kBeingRewritten.count(Relative(f)) == 0) out.push_back(f);
+      out.push_back(f);
     }
   }
   return out;
@@ -310,7 +304,7 @@ std::set<std::string> Anchors(const fs::path& file) {
 }
 
 bool ExistsInRepo(const std::string& relative) {
-  return fs::exists(fs::path(kRoot) / relative) || kWrittenElsewhere.count(relative) != 0;
+  return fs::exists(fs::path(kRoot) / relative);
 }
 
 TEST(DocsTest, ProductDocsCiteNoIssueNumberAndOnlyFilesThatExist) {

@@ -242,6 +242,12 @@ TEST_F(RefusalTest, EveryWriterRefusesWhatItDidNotMake) {
        2,
        "not a gait database",
        {"{d}/mine"}},
+      {"gaits synthesize into a user's folder named as a database",
+       [](RefusalTest* t) { t->Write("mine/notes.txt", "mine"); },
+       "gaits synthesize --vm 0.5 --gaits {d}/mine -q",
+       2,
+       "not a gait database",
+       {"{d}/mine"}},
       {"gaits synthesize over a user's file in the database",
        [](RefusalTest* t) {
          t->SmallDatabase("db");

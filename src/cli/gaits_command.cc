@@ -36,9 +36,24 @@ std::string ReferenceFolder(const std::string& dir) {
   return ReferenceDirOf(GaitDatabaseRoot(dir));
 }
 
-// The reference folder the database flags name.
+// The reference folder the database flags name. A --gaits folder that exists must be a database
+// (reference/ or manifest.csv) or empty: rabbit adds nothing to a folder of the user's.
 std::string Reference(const std::string& dir, const std::string& reference_dir) {
-  return reference_dir.empty() ? ReferenceFolder(dir) : reference_dir;
+  if (!reference_dir.empty()) return reference_dir;
+  namespace fs = std::filesystem;
+  if (fs::exists(fs::path(dir) / kIndexFile)) return dir;
+  const fs::path root = GaitDatabaseRoot(dir);
+  std::error_code error;
+  if (fs::is_directory(root, error) && !fs::is_empty(root, error) &&
+      !fs::exists(root / kReferenceDir) && !fs::exists(root / kManifestFile)) {
+    throw InputError("--gaits", 0, dir,
+                     "is not a gait database (no reference/ folder, no manifest.csv, not empty): "
+                     "refusing to write into it");
+  }
+  if (fs::exists(root) && !fs::is_directory(root, error)) {
+    throw InputError("--gaits", 0, dir, "is not a folder");
+  }
+  return ReferenceDirOf(root.string());
 }
 
 struct BuildArgs {
