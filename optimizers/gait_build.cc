@@ -295,7 +295,13 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
   };
   Manifest old;
   bool existing = false;
-  RunAgreed([&] { existing = InspectOut(out, &old); });
+  // Rank 0 first (it finishes a commit a killed build left), then the others read what it left.
+  RunAgreed([&] {
+    if (Ranks::root()) existing = InspectOut(out, &old);
+  });
+  RunAgreed([&] {
+    if (!Ranks::root()) existing = InspectOut(out, &old);
+  });
   const std::string model_sha = ModelSha(targets);
   const std::string simulator_sha = Sha256Hex(SimulatorSettingsText());
   const std::string version = std::string("rabbit ") + RABBIT_VERSION;
@@ -374,10 +380,14 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
     for (int j = 0; j < threads; ++j) pool.emplace_back(worker);
     for (std::thread& t : pool) t.join();
   }
-  for (size_t k = 0; k < mine.size(); ++k) {
-    if (!errors[k].empty())
-      throw std::runtime_error(targets.gaits[mine[k]].name + ": " + errors[k]);
-  }
+  // A failed synthesis on one rank fails every rank (none is left waiting in the gather below).
+  RunAgreed([&] {
+    for (size_t k = 0; k < mine.size(); ++k) {
+      if (!errors[k].empty()) {
+        throw std::runtime_error(targets.gaits[mine[k]].name + ": " + errors[k]);
+      }
+    }
+  });
   // Gather every rank's outcomes on rank 0.
   std::vector<SynthesisOutcome> all;
   const std::vector<std::string> gathered = Ranks::Gather(Encode(outcomes));
@@ -422,9 +432,14 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
       walker[g.name] = g.walker;
       inputs_of[g.name] = inputs[i];
     }
-    if (records.size() < 2) {
+    const auto speed_gaits = std::count_if(records.begin(), records.end(), [](const GaitRecord& g) {
+      return g.role == GaitRole::kSpeed;
+    });
+    if (speed_gaits < 2) {  // the fuzzy system blends at least 2 speed gaits
       fs::remove_all(staging);
-      return;  // no database of fewer than 2 gaits (the fuzzy system needs 2)
+      result.check_failures.push_back(
+          "fewer than 2 speed gaits met their criteria: nothing written");
+      return;
     }
     // The index as AddGaitToDatabase keeps it: the speed gaits first, by target velocity, then
     // the library gaits by target velocity and step length (so the speed gaits' networks and the
@@ -487,9 +502,8 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
     for (const ManifestRow& r : old.rows) old_files.insert(r.file);
     Commit(out, old_files);
   });
-  code = result.exit_code();
-  code = std::stoi(Ranks::Broadcast(std::to_string(code)));
-  (void)code;
+  code = result.missed.empty() && result.check_failures.empty() ? 0 : 1;
+  result.code = std::stoi(Ranks::Broadcast(std::to_string(code)));
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;

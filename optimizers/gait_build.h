@@ -45,7 +45,9 @@ struct GaitBuildResult {
   double wall_seconds = 0.0;
   // 0 all built and checked; 1 a target missed its criteria (nothing written for it) or a check
   // walk failed.
-  int exit_code() const { return missed.empty() && check_failures.empty() ? 0 : 1; }
+  // the same on every rank (rank 0's verdict, broadcast).
+  int code = 0;
+  int exit_code() const { return code; }
 };
 
 // Throws InputError (nothing written) when `out` exists and is neither empty nor a database, or is

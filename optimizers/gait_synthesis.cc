@@ -336,7 +336,7 @@ std::vector<std::string> DiagnoseMiss(const SimSetup& setup, const SynthesisOpti
     const double samples = 2.0 * static_cast<double>(run.sim.samples.size());  // per joint kind
     for (int k = 0; k < 2; ++k) {
       for (int r = 1; r < 4; ++r) {
-        const double share = counts[k][r] / samples;
+        const double share = static_cast<double>(counts[k][r]) / samples;
         if (share < 0.02) continue;  // occasional saturation is normal
         std::snprintf(text, sizeof text, "motor %s limit on the %ss for %.0f %% of the walk",
                       limits[r], joints[k], 100.0 * share);

@@ -29,13 +29,6 @@
 namespace rabbit::cli {
 namespace {
 
-// The reference/ folder of the database `dir` names (or `dir` itself when it is one, the older
-// form of the database flag).
-std::string ReferenceFolder(const std::string& dir) {
-  if (std::filesystem::exists(std::filesystem::path(dir) / kIndexFile)) return dir;
-  return ReferenceDirOf(GaitDatabaseRoot(dir));
-}
-
 // The reference folder the database flags name. A --gaits folder that exists must be a database
 // (reference/ or manifest.csv) or empty: rabbit adds nothing to a folder of the user's.
 std::string Reference(const std::string& dir, const std::string& reference_dir) {
@@ -44,6 +37,13 @@ std::string Reference(const std::string& dir, const std::string& reference_dir) 
   if (fs::exists(fs::path(dir) / kIndexFile)) return dir;
   const fs::path root = GaitDatabaseRoot(dir);
   std::error_code error;
+  if (fs::exists(root / kManifestFile)) {
+    // A built database is changed as a whole: adding a gait alone would leave its networks, fuzzy
+    // system and manifest behind.
+    throw InputError("--gaits", 0, dir,
+                     "is a database made by rabbit gaits build: add the gait to its targets file "
+                     "and build it again (rabbit gaits build TARGETS --out DIR resumes)");
+  }
   if (fs::is_directory(root, error) && !fs::is_empty(root, error) &&
       !fs::exists(root / kReferenceDir) && !fs::exists(root / kManifestFile)) {
     throw InputError("--gaits", 0, dir,
@@ -65,6 +65,21 @@ struct BuildArgs {
 
 int RunBuild(const BuildArgs& a) {
   const GaitTargets targets = ReadGaitTargets(a.targets);
+  const auto speed_targets =
+      std::count_if(targets.gaits.begin(), targets.gaits.end(),
+                    [](const GaitTarget& g) { return g.role == GaitRole::kSpeed; });
+  if (speed_targets < 2) {
+    throw InputError(a.targets, 0, "gait",
+                     "a database needs at least 2 speed gaits (the fuzzy system blends them); "
+                     "found " +
+                         std::to_string(speed_targets));
+  }
+  // One build of a database at a time (rank 0 holds the lock; every rank agrees on whether it got
+  // it, so none is left waiting).
+  OutputLock lock;
+  RunAgreed([&] {
+    if (Ranks::root()) lock = OutputLock(a.out, "--out");
+  });
   GaitBuildOptions options;
   options.out = a.out;
   options.threads = a.jobs;
@@ -176,8 +191,9 @@ struct GenerateArgs {
 };
 
 int RunGenerate(const GenerateArgs& a) {
-  std::vector<GaitTarget> targets =
-      a.config.empty() ? DefaultGaitTargets() : ReadGaitTargets(a.config).gaits;
+  GaitTargets file;
+  if (!a.config.empty()) file = ReadGaitTargets(a.config);
+  std::vector<GaitTarget> targets = a.config.empty() ? DefaultGaitTargets() : file.gaits;
   for (GaitTarget& t : targets) t.synthesis.threads = a.threads;
   std::vector<std::string> names;
   for (const GaitTarget& t : targets) names.push_back(t.name);  // distinct: ReadGaitTargets
@@ -198,7 +214,7 @@ int RunGenerate(const GenerateArgs& a) {
       std::vector<std::string> limits;
       const auto started = std::chrono::steady_clock::now();
       try {
-        met = SynthesizeReferenceGait(targets[i].synthesis, ModelParams{}, targets[i].name, true,
+        met = SynthesizeReferenceGait(targets[i].synthesis, file.model, targets[i].name, true,
                                       &record, nullptr, &limits);
       } catch (const std::exception& e) {  // kept per target; the others go on
         errors[i] = e.what();

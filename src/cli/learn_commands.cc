@@ -188,11 +188,12 @@ int RunFisEval(const FisArgs& a) {
 
 // Writes the default gait pattern of a gait database (DefaultGaitPatternFll): to a new file, an
 // FLL file of rabbit's, or standard output (-).
-int RunFisGenerate(const std::string& gaits_dir, const std::string& out, bool quiet) {
+int RunFisGenerate(const std::string& gaits_dir, const std::string& out_flag, bool quiet) {
   namespace fs = std::filesystem;
   const std::string reference = fs::exists(fs::path(gaits_dir) / kIndexFile)
                                     ? gaits_dir
                                     : ReferenceDirOf(GaitDatabaseRoot(gaits_dir));
+  const std::string out = out_flag.empty() ? GaitPatternOf(GaitDatabaseRoot(gaits_dir)) : out_flag;
   if (!IsStandardOutput(out)) {  // a new file, or an FLL file to replace
     CheckOwnedFile("--out", out, "Engine:", "an FLL file", /*skip_comments=*/true);
   }
@@ -259,15 +260,13 @@ Command RegisterFis(CLI::App* app) {
                        "Networks folder, read with --e-deg (a default is below the data root)"),
       &a->networks);
   auto gen_gaits = std::make_shared<std::string>("gaits");
-  auto gen_out = std::make_shared<std::string>("gaits/gait_pattern.fll");
+  auto gen_out = std::make_shared<std::string>();  // default: the database's gait_pattern.fll
   CLI::App* gen = fis->add_subcommand(
       "generate", "Write the default gait pattern (Table 3 generalised) for a gait database");
   DatabaseOption(gen, gen_gaits.get());
-  DataDefault(
-      gen,
-      gen->add_option("--out,-o", *gen_out,
-                      "FLL file to write (a default is below the data root; -: standard output)"),
-      gen_out.get());
+  gen->add_option(
+      "--out,-o", *gen_out,
+      "FLL file to write (default: the database's gait_pattern.fll; -: standard output)");
   auto gen_quiet = std::make_shared<bool>(false);
   gen->add_flag("--quiet,-q", *gen_quiet, "Print nothing but errors");
   return {fis, [a, e, gen, gen_gaits, gen_out, gen_quiet] {
