@@ -663,7 +663,8 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
   // database's rule shares.
   const bool gait_rules = t->Bool("gait_rules", true);
   s->gait_settings = ReadDatabaseWalkerSettings(f.database);
-  for (const auto& [name, settings] : s->gait_settings) {
+  for (const auto& entry : s->gait_settings) {
+    const std::string& name = entry.first;  // (a structured binding cannot be captured in C++17)
     const bool listed = std::any_of(index.begin(), index.end(),
                                     [&](const GaitIndexEntry& e) { return e.name == name; });
     if (!listed) {
