@@ -62,7 +62,7 @@ struct WalkerParams {
   // Velocity control (eqs. 19-20): K_P in rad per m/s, K_V in rad per m/s^2 (it multiplies the
   // error's change over a step divided by t_step).
   double k_p = 0.2, k_v = 0.1;
-  double q0_d_min = -0.10, q0_d_max = 0.45;  // rad (-5.7, 25.8 deg): the range of q0_d
+  double q0_d_min = -0.10, q0_d_max = 0.45;  // rad (-5.73, 25.78 deg): the range of q0_d
   double q0_d_initial = 0.07;                // rad: q0_d before the first step
   double v_m_initial = 0.6;                  // m/s: V_M assumed before the first measured step
   // V_M given to the FIS and the velocity control: the mean of the last `v_m_average_steps`

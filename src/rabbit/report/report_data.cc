@@ -337,6 +337,7 @@ std::string VariantLabel(const std::string& variant) {
   if (variant == "pragmatic") return "pragmatic (baseline)";
   if (variant == "nearest_gait") return "nearest gait (baseline)";
   if (variant == "multi_cmac") return "multi-input CMAC (baseline)";
+  if (variant == "chapter") return "chapter's walker (baseline)";
   return variant;
 }
 
@@ -344,6 +345,7 @@ std::string VariantShortLabel(const std::string& variant) {
   if (variant == "pragmatic") return "pragmatic";
   if (variant == "nearest_gait") return "nearest gait";
   if (variant == "multi_cmac") return "multi-input CMAC";
+  if (variant == "chapter") return "chapter's walker";
   return VariantLabel(variant);
 }
 
@@ -364,7 +366,8 @@ std::string VariantColor(const std::string& variant) {
   if (variant == "pragmatic") return "#E69F00";
   if (variant == "nearest_gait") return "#009E73";
   if (variant == "multi_cmac") return "#CC79A7";
-  static const char* const kOthers[] = {"#D55E00", "#56B4E9", "#000000", "#F0E442"};
+  if (variant == "chapter") return "#D55E00";
+  static const char* const kOthers[] = {"#56B4E9", "#000000", "#F0E442", "#999999"};
   size_t h = 0;
   for (char c : variant) h = h * 31 + static_cast<unsigned char>(c);
   return kOthers[h % std::size(kOthers)];

@@ -240,14 +240,15 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
   out.family = scenario.family;
   const Model model(scenario.model);
   const SimSetup setup = MakeSimSetup(scenario, &model);
-  const bool walker =
-      variant == "fuzzy_cmac" || variant == "nearest_gait" || variant == "multi_cmac";
+  const bool walker = variant == "fuzzy_cmac" || variant == "nearest_gait" ||
+                      variant == "multi_cmac" || variant == "chapter";
   if ((walker || scenario.controller == ControllerKind::kFuzzyCmac) && library == nullptr) {
     throw std::invalid_argument("RunScenario: walker scenarios need their gait library");
   }
   std::size_t pattern_memory = 0;
   if (walker) {
-    WalkerParams params = scenario.walker;
+    // The baseline "chapter": the chapter preset's walker on the same gait pattern.
+    WalkerParams params = variant == "chapter" ? scenario.chapter_walker : scenario.walker;
     params.log_every = scenario.options.record_every;
     params.gait_rules.clear();
     for (const GaitRecord& g : library->gaits) params.gait_rules.push_back(g.spec.rules);

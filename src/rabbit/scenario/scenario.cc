@@ -9,6 +9,7 @@
 #include <mutex>
 #include <utility>
 
+#include "rabbit/control/walker_presets.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/gait/walker_settings.h"
 #include "rabbit/io/bounded_read.h"
@@ -569,6 +570,91 @@ void ReadRecovery(TomlReader r, RecoveryParams* p) {
   if (!p->IsValid(&error)) r.Fail("", error);
 }
 
+// The walker's own keys of [controller], read over *w (a preset's settings, with the start gait's
+// warm-up rules, trunk pitch and V_M).
+void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walker) {
+  WalkerParams& w = *walker;
+  w.warmup_steps = static_cast<int>(t->Integer("warmup_steps", w.warmup_steps, 0, 1000));
+  w.hip_kp = t->Double("hip_kp", w.hip_kp);
+  w.hip_kd = t->Double("hip_kd", w.hip_kd);
+  w.knee_kp = t->Double("knee_kp", w.knee_kp);
+  w.knee_kd = t->Double("knee_kd", w.knee_kd);
+  w.stance_knee_kp = t->Double("stance_knee_kp", w.stance_knee_kp);
+  w.stance_knee_kd = t->Double("stance_knee_kd", w.stance_knee_kd);
+  w.trunk_kp = t->Double("trunk_kp", w.trunk_kp);
+  w.trunk_kd = t->Double("trunk_kd", w.trunk_kd);
+  w.k_p = t->Double("k_p", w.k_p);
+  w.k_v = t->Double("k_v", w.k_v);
+  w.q0_d_min = t->Double("q0_d_min_deg", w.q0_d_min / kDeg) * kDeg;
+  w.q0_d_max = t->Double("q0_d_max_deg", w.q0_d_max / kDeg) * kDeg;
+  w.q0_d_initial = t->Double("q0_d_initial_deg", w.q0_d_initial / kDeg) * kDeg;
+  w.v_m_initial = t->Double("v_m_initial", w.v_m_initial);
+  w.v_m_average_steps =
+      static_cast<int>(t->Integer("v_m_average_steps", w.v_m_average_steps, 1, 100));
+  w.fis_v_lead = t->Double("fis_v_lead", w.fis_v_lead);
+  w.d_obs_max = t->Double("d_obs_max", w.d_obs_max);
+  w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
+  w.lift_clearance = t->Double("lift_clearance", w.lift_clearance);
+  w.lift_d_obs = t->Double("lift_d_obs", w.lift_d_obs);
+  w.lift_lead = t->Double("lift_lead", w.lift_lead);
+  w.lift_trail = t->Double("lift_trail", w.lift_trail);
+  w.lift_ramp = t->Double("lift_ramp", w.lift_ramp);
+  w.lift_release = t->Double("lift_release", w.lift_release);
+  w.lift_feedback = t->Bool("lift_feedback", w.lift_feedback);
+  w.lift_keeps_rules = t->Bool("lift_keeps_rules", w.lift_keeps_rules);
+  ReadRecovery(t->Table("recovery"), &w.recovery);
+  w.thigh_length = model.thigh_length;
+  w.shin_length = model.shin_length;
+  {
+    // [controller.planner]: the multi-step foot placement over obstacles (step_planner.h).
+    TomlReader pt = t->Table("planner");
+    StepPlannerParams& pp = w.planner;
+    pp.tracked_gaits_only = pt.Bool("tracked_gaits_only", pp.tracked_gaits_only);
+    pp.enabled =
+        pt.Bool("enabled", pp.enabled);  // the preset's (docs/design.md, "The step planner")
+    pp.horizon = pt.Double("horizon", pp.horizon);
+    pp.margin_before = pt.Double("margin_before", pp.margin_before);
+    pp.margin_after = pt.Double("margin_after", pp.margin_after);
+    pp.l_min = pt.Double("l_min", pp.l_min);
+    pp.l_max = pt.Double("l_max", pp.l_max);
+    pp.l_nominal = pt.Double("l_nominal", pp.l_nominal);
+    pp.l_over_max = pt.Double("l_over_max", pp.l_over_max);
+    pp.feedback_gain = pt.Double("feedback_gain", pp.feedback_gain);
+    pp.bias_initial = pt.Double("bias_initial", pp.bias_initial);
+    pp.bias_max = pt.Double("bias_max", pp.bias_max);
+    pp.recovery_steps = static_cast<int>(pt.Integer("recovery_steps", pp.recovery_steps, 0, 100));
+    pp.stretch = pt.Double("stretch", pp.stretch);
+    pp.over_lift_trail = pt.Double("over_lift_trail", pp.over_lift_trail);
+    pp.over_lift_release = pt.Double("over_lift_release", pp.over_lift_release);
+    pp.hold_margin = pt.Double("hold_margin", pp.hold_margin);
+    pp.use_length = pt.Bool("use_length", pp.use_length);
+    pp.assumed_length = pt.Double("assumed_length", pp.assumed_length);
+    pt.Finish();
+    std::string planner_error;
+    if (!pp.IsValid(&planner_error)) {
+      // Name the key the message starts with ("planner.l_min ..." or "planner: need ...").
+      std::string key;
+      const std::string head = "planner.";
+      if (planner_error.rfind(head, 0) == 0) {
+        key = planner_error.substr(head.size(), planner_error.find(' ') - head.size());
+      } else if (planner_error.find("l_min") != std::string::npos) {
+        key = "l_min";
+      }
+      pt.Fail(key, planner_error);
+    }
+  }
+  std::string error;
+  // The start gait's pitch (the default q0_d_initial) is clamped into the range; a given one must
+  // lie in it.
+  if (!(w.q0_d_min <= w.q0_d_max)) t->Fail("q0_d_min_deg", "must be <= q0_d_max_deg");
+  if (t->Has("q0_d_initial_deg") &&
+      !(w.q0_d_initial >= w.q0_d_min && w.q0_d_initial <= w.q0_d_max)) {
+    t->Fail("q0_d_initial_deg", "must lie in [q0_d_min_deg, q0_d_max_deg]");
+  }
+  w.q0_d_initial = std::clamp(w.q0_d_initial, w.q0_d_min, w.q0_d_max);  // the start gait's pitch
+  if (!w.IsValid(&error)) t->Fail("", error);
+}
+
 // type = "fuzzy_cmac": the chapter's walker (see FuzzyCmacWalker). Reads the gait database to
 // choose the start gait; the walk starts from its documented walking start.
 // The gait database (`database`, default the shipped one beside the scenario folder) gives the
@@ -629,28 +715,28 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
   }
   const GaitRecord gait = ReadGaitFile((std::filesystem::path(f.gaits) / start->file).string());
   s->walking = gait.spec;
-  WalkerParams& w = s->walker;
-  w.warmup = gait.spec.rules;
-  w.q0_d_initial = gait.spec.rules.q0_d;
-  w.v_m_initial = gait.measured.v_m;
-  w.warmup_steps = static_cast<int>(t->Integer("warmup_steps", w.warmup_steps, 0, 1000));
-  w.hip_kp = t->Double("hip_kp", w.hip_kp);
-  w.hip_kd = t->Double("hip_kd", w.hip_kd);
-  w.knee_kp = t->Double("knee_kp", w.knee_kp);
-  w.knee_kd = t->Double("knee_kd", w.knee_kd);
-  w.stance_knee_kp = t->Double("stance_knee_kp", w.stance_knee_kp);
-  w.stance_knee_kd = t->Double("stance_knee_kd", w.stance_knee_kd);
-  w.trunk_kp = t->Double("trunk_kp", w.trunk_kp);
-  w.trunk_kd = t->Double("trunk_kd", w.trunk_kd);
-  w.k_p = t->Double("k_p", w.k_p);
-  w.k_v = t->Double("k_v", w.k_v);
-  w.q0_d_min = t->Double("q0_d_min_deg", w.q0_d_min / kDeg) * kDeg;
-  w.q0_d_max = t->Double("q0_d_max_deg", w.q0_d_max / kDeg) * kDeg;
-  w.q0_d_initial = t->Double("q0_d_initial_deg", w.q0_d_initial / kDeg) * kDeg;
-  w.v_m_initial = t->Double("v_m_initial", w.v_m_initial);
-  w.v_m_average_steps =
-      static_cast<int>(t->Integer("v_m_average_steps", w.v_m_average_steps, 1, 100));
-  w.fis_v_lead = t->Double("fis_v_lead", w.fis_v_lead);
+  // The preset the keys are read over (walker_presets.h); a baseline "chapter" is the chapter's
+  // preset read with the same keys.
+  const std::string preset_name = t->String("preset", "adaptive");
+  WalkerPreset preset = WalkerPreset::kAdaptive;
+  if (!ParseWalkerPreset(preset_name, &preset)) {
+    t->Fail("preset",
+            "unknown preset \"" + preset_name + "\" (expected " + WalkerPresetNames() + ")");
+  }
+  s->preset = preset;
+  const auto preset_walker = [&](WalkerPreset which) {
+    WalkerParams w = PresetWalkerParams(which);
+    // The scenario's perception noise and seed ([noise], read before the controller).
+    w.v_m_noise = s->walker.v_m_noise;
+    w.d_obs_noise = s->walker.d_obs_noise;
+    w.seed = s->walker.seed;
+    w.warmup = gait.spec.rules;
+    w.q0_d_initial = gait.spec.rules.q0_d;
+    w.v_m_initial = gait.measured.v_m;
+    return w;
+  };
+  s->walker = preset_walker(preset);
+  ReadWalkerKeys(t, s->model, &s->walker);
   if (t->Has("rule_share")) {
     t->Fail("rule_share",
             "per-gait settings are no longer given in a scenario: the rule share of each gait "
@@ -674,80 +760,29 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
     }
   }
   if (!gait_rules) s->gait_settings.clear();
-  w.d_obs_max = t->Double("d_obs_max", w.d_obs_max);
-  w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
-  w.lift_clearance = t->Double("lift_clearance", w.lift_clearance);
-  w.lift_d_obs = t->Double("lift_d_obs", w.lift_d_obs);
-  w.lift_lead = t->Double("lift_lead", w.lift_lead);
-  w.lift_trail = t->Double("lift_trail", w.lift_trail);
-  w.lift_ramp = t->Double("lift_ramp", w.lift_ramp);
-  w.lift_release = t->Double("lift_release", w.lift_release);
-  w.lift_feedback = t->Bool("lift_feedback", w.lift_feedback);
-  w.lift_keeps_rules = t->Bool("lift_keeps_rules", w.lift_keeps_rules);
-  ReadRecovery(t->Table("recovery"), &w.recovery);
-  w.thigh_length = s->model.thigh_length;
-  w.shin_length = s->model.shin_length;
-  {
-    // [controller.planner]: the multi-step foot placement over obstacles (step_planner.h).
-    TomlReader pt = t->Table("planner");
-    StepPlannerParams& pp = w.planner;
-    pp.tracked_gaits_only = pt.Bool("tracked_gaits_only", pp.tracked_gaits_only);
-    constexpr bool kPlannerEnabledByDefault = true;  // docs/design.md, "The step planner"
-    pp.enabled = pt.Bool("enabled", kPlannerEnabledByDefault);
-    pp.horizon = pt.Double("horizon", pp.horizon);
-    pp.margin_before = pt.Double("margin_before", pp.margin_before);
-    pp.margin_after = pt.Double("margin_after", pp.margin_after);
-    pp.l_min = pt.Double("l_min", pp.l_min);
-    pp.l_max = pt.Double("l_max", pp.l_max);
-    pp.l_nominal = pt.Double("l_nominal", pp.l_nominal);
-    pp.l_over_max = pt.Double("l_over_max", pp.l_over_max);
-    pp.feedback_gain = pt.Double("feedback_gain", pp.feedback_gain);
-    pp.bias_initial = pt.Double("bias_initial", pp.bias_initial);
-    pp.bias_max = pt.Double("bias_max", pp.bias_max);
-    pp.recovery_steps = static_cast<int>(pt.Integer("recovery_steps", pp.recovery_steps, 0, 100));
-    pp.stretch = pt.Double("stretch", pp.stretch);
-    pp.over_lift_trail = pt.Double("over_lift_trail", pp.over_lift_trail);
-    pp.over_lift_release = pt.Double("over_lift_release", pp.over_lift_release);
-    pp.hold_margin = pt.Double("hold_margin", pp.hold_margin);
-    pp.use_length = pt.Bool("use_length", pp.use_length);
-    pp.assumed_length = pt.Double("assumed_length", pp.assumed_length);
-    pt.Finish();
-    std::string planner_error;
-    if (!pp.IsValid(&planner_error)) {
-      // Name the key the message starts with ("planner.l_min ..." or "planner: need ...").
-      std::string key;
-      const std::string head = "planner.";
-      if (planner_error.rfind(head, 0) == 0) {
-        key = planner_error.substr(head.size(), planner_error.find(' ') - head.size());
-      } else if (planner_error.find("l_min") != std::string::npos) {
-        key = "l_min";
-      }
-      pt.Fail(key, planner_error);
-    }
-  }
   s->baselines = t->Strings("baselines", {});
   for (size_t i = 0; i < s->baselines.size(); ++i) {
     const std::string& b = s->baselines[i];
-    if (b != "pragmatic" && b != "nearest_gait" && b != "multi_cmac") {
+    if (b != "pragmatic" && b != "nearest_gait" && b != "multi_cmac" && b != "chapter") {
       t->Fail("baselines", "unknown baseline \"" + b +
-                               "\" (expected \"pragmatic\", \"nearest_gait\" or \"multi_cmac\")");
+                               "\" (expected \"chapter\", \"pragmatic\", \"nearest_gait\" or "
+                               "\"multi_cmac\")");
     }
     for (size_t j = 0; j < i; ++j) {
       if (s->baselines[j] == b) t->Fail("baselines", "\"" + b + "\" listed twice");
     }
   }
+  if (std::find(s->baselines.begin(), s->baselines.end(), "chapter") != s->baselines.end()) {
+    if (preset == WalkerPreset::kChapter) {
+      t->Fail("baselines", "\"chapter\" is the main walker here (preset = \"chapter\")");
+    }
+    s->chapter_walker = preset_walker(WalkerPreset::kChapter);
+    // Without the observer: the settings a tuning job sees are the main walker's.
+    TomlReader unobserved = t->WithObserver(nullptr);
+    ReadWalkerKeys(&unobserved, s->model, &s->chapter_walker);
+  }
   s->multi_cmac = ReadMultiCmac(t->Table("multi_cmac"));
   t->Finish();
-  // The start gait's pitch (the default q0_d_initial) is clamped into the range; a given one must
-  // lie in it.
-  std::string error;
-  if (!(w.q0_d_min <= w.q0_d_max)) t->Fail("q0_d_min_deg", "must be <= q0_d_max_deg");
-  if (t->Has("q0_d_initial_deg") &&
-      !(w.q0_d_initial >= w.q0_d_min && w.q0_d_initial <= w.q0_d_max)) {
-    t->Fail("q0_d_initial_deg", "must lie in [q0_d_min_deg, q0_d_max_deg]");
-  }
-  w.q0_d_initial = std::clamp(w.q0_d_initial, w.q0_d_min, w.q0_d_max);  // the start gait's pitch
-  if (!w.IsValid(&error)) t->Fail("", error);
 }
 
 // [controller], merged over the layers (a suite's scenario over its defaults) unless a layer names

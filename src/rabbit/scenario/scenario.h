@@ -15,6 +15,7 @@
 #include "rabbit/contact/terrain.h"
 #include "rabbit/control/basic_controllers.h"
 #include "rabbit/control/fuzzy_cmac_walker.h"
+#include "rabbit/control/walker_presets.h"
 #include "rabbit/gait/gait_walk.h"
 #include "rabbit/gait/walker_settings.h"
 #include "rabbit/learn/multi_cmac_pattern.h"
@@ -84,6 +85,9 @@ struct Scenario {
   // pragmatic warm-up), and the baselines to run beside it ("pragmatic", "nearest_gait",
   // "multi_cmac").
   WalkerParams walker;
+  WalkerPreset preset = WalkerPreset::kAdaptive;  // `preset`: the settings `walker` was read over
+  // The baseline "chapter": the chapter preset with the scenario's keys (set when it is listed).
+  WalkerParams chapter_walker;
   GaitPatternFiles pattern;
   // The gait pattern's fuzzy system when [controller.sets] changes the FLL file's membership
   // functions (else empty: the FLL file's, from the gait library).

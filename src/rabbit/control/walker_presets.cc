@@ -1,0 +1,50 @@
+#include "rabbit/control/walker_presets.h"
+
+#include <cmath>
+
+namespace rabbit {
+
+namespace {
+constexpr double kDeg = M_PI / 180.0;
+}  // namespace
+
+bool ParseWalkerPreset(const std::string& name, WalkerPreset* preset) {
+  if (name == "adaptive") {
+    *preset = WalkerPreset::kAdaptive;
+  } else if (name == "chapter") {
+    *preset = WalkerPreset::kChapter;
+  } else {
+    return false;
+  }
+  return true;
+}
+
+const char* WalkerPresetName(WalkerPreset preset) {
+  return preset == WalkerPreset::kChapter ? "chapter" : "adaptive";
+}
+
+std::string WalkerPresetNames() { return "\"adaptive\", \"chapter\""; }
+
+WalkerParams PresetWalkerParams(WalkerPreset preset) {
+  WalkerParams w;
+  // Both: the FIS sees the desired velocity, so the gait pattern moves to the gait of V_d before
+  // the trunk pitch has brought V_M there (docs/design.md, "The walker").
+  w.fis_v_lead = 1.0;
+  switch (preset) {
+    case WalkerPreset::kAdaptive:
+      w.planner.enabled = true;
+      break;
+    case WalkerPreset::kChapter:
+      // Table 3's obstacle strategy alone, the fast gaits' swing kept theirs while the foot lift
+      // is armed (Table 3's step over uses them), and the trunk pitch range of the chapter's
+      // figures, given in degrees.
+      w.planner.enabled = false;
+      w.lift_keeps_rules = true;
+      w.q0_d_min = -5.7 * kDeg;
+      w.q0_d_max = 25.8 * kDeg;
+      break;
+  }
+  return w;
+}
+
+}  // namespace rabbit

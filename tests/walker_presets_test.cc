@@ -1,0 +1,134 @@
+// Walker presets: a scenario naming only the walker gets the adaptive preset; `preset = "chapter"`
+// and the baseline "chapter" read the scenario's keys over the chapter's settings; bad names are
+// refused naming the file and key.
+#include "rabbit/control/walker_presets.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "rabbit/io/error.h"
+#include "rabbit/scenario/run.h"
+#include "rabbit/scenario/scenario.h"
+
+namespace rabbit {
+namespace {
+
+namespace fs = std::filesystem;
+
+class WalkerPresetsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rabbit_walker_presets_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::create_directories(dir_);
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  // A walker scenario on the shipped database with `controller` lines added to [controller].
+  std::string Write(const std::string& controller) {
+    const std::string path = (dir_ / "walk.toml").string();
+    std::ofstream(path) << "[simulation]\nduration = 1.0\n[velocity]\nvalue = 0.6\n"
+                        << "[controller]\ntype = \"fuzzy_cmac\"\ndatabase = \"" << RABBIT_SOURCE_DIR
+                        << "/gaits\"\n"  // line 7: the next line is 8
+                        << controller;
+    return path;
+  }
+  fs::path dir_;
+};
+
+TEST(WalkerPresets, NamesRoundTripAndUnknownNamesAreRefused) {
+  for (WalkerPreset p : {WalkerPreset::kAdaptive, WalkerPreset::kChapter}) {
+    WalkerPreset back = WalkerPreset::kAdaptive;
+    ASSERT_TRUE(ParseWalkerPreset(WalkerPresetName(p), &back));
+    EXPECT_EQ(back, p);
+  }
+  WalkerPreset p = WalkerPreset::kChapter;
+  EXPECT_FALSE(ParseWalkerPreset("Chapter", &p));
+  EXPECT_FALSE(ParseWalkerPreset("", &p));
+  EXPECT_EQ(p, WalkerPreset::kChapter);  // unchanged on failure
+}
+
+TEST(WalkerPresets, TheChapterDiffersFromTheAdaptiveWalkerOnlyWhereDocumented) {
+  const WalkerParams a = PresetWalkerParams(WalkerPreset::kAdaptive);
+  const WalkerParams c = PresetWalkerParams(WalkerPreset::kChapter);
+  EXPECT_TRUE(a.planner.enabled);
+  EXPECT_FALSE(c.planner.enabled);
+  EXPECT_FALSE(a.lift_keeps_rules);
+  EXPECT_TRUE(c.lift_keeps_rules);
+  EXPECT_EQ(a.fis_v_lead, 1.0);
+  EXPECT_EQ(c.fis_v_lead, 1.0);
+  // Everything else is shared: the PD gains, the velocity control, the push recovery.
+  EXPECT_EQ(a.k_p, c.k_p);
+  EXPECT_EQ(a.k_v, c.k_v);
+  EXPECT_EQ(a.hip_kp, c.hip_kp);
+  EXPECT_EQ(a.recovery.enabled, c.recovery.enabled);
+  EXPECT_EQ(a.q0_d_min, -0.10);
+  EXPECT_EQ(a.q0_d_max, 0.45);
+  EXPECT_NEAR(c.q0_d_min * 180.0 / M_PI, -5.7, 1e-12);
+  EXPECT_NEAR(c.q0_d_max * 180.0 / M_PI, 25.8, 1e-12);
+  std::string error;
+  EXPECT_TRUE(a.IsValid(&error)) << error;
+  EXPECT_TRUE(c.IsValid(&error)) << error;
+}
+
+TEST_F(WalkerPresetsTest, OnlyTheTypeGivesTheAdaptiveWalker) {
+  const Scenario s = LoadScenario(Write(""));
+  EXPECT_EQ(s.preset, WalkerPreset::kAdaptive);
+  EXPECT_TRUE(s.walker.planner.enabled);
+  EXPECT_EQ(s.walker.fis_v_lead, 1.0);
+  EXPECT_FALSE(s.walker.lift_keeps_rules);
+}
+
+TEST_F(WalkerPresetsTest, KeysAreReadOverThePreset) {
+  const Scenario s = LoadScenario(Write("preset = \"chapter\"\nk_p = 0.3\n"));
+  EXPECT_EQ(s.preset, WalkerPreset::kChapter);
+  EXPECT_FALSE(s.walker.planner.enabled);
+  EXPECT_TRUE(s.walker.lift_keeps_rules);
+  EXPECT_EQ(s.walker.k_p, 0.3);
+  const Scenario t = LoadScenario(Write(
+      "preset = \"chapter\"\nlift_keeps_rules = false\n[controller.planner]\nenabled = true\n"));
+  EXPECT_TRUE(t.walker.planner.enabled);
+  EXPECT_FALSE(t.walker.lift_keeps_rules);
+}
+
+TEST_F(WalkerPresetsTest, TheChapterBaselineTakesTheScenariosKeys) {
+  const Scenario s = LoadScenario(Write("baselines = [\"chapter\"]\nk_p = 0.3\n"));
+  EXPECT_TRUE(s.walker.planner.enabled);
+  EXPECT_FALSE(s.chapter_walker.planner.enabled);
+  EXPECT_TRUE(s.chapter_walker.lift_keeps_rules);
+  EXPECT_EQ(s.chapter_walker.k_p, 0.3);
+  EXPECT_EQ(s.walker.k_p, 0.3);
+  // The warm-up comes from the start gait for both.
+  EXPECT_EQ(s.chapter_walker.q0_d_initial, s.walker.q0_d_initial);
+  EXPECT_EQ(s.chapter_walker.warmup_steps, s.walker.warmup_steps);
+  const std::vector<std::string> variants = ScenarioVariants(s);
+  EXPECT_NE(std::find(variants.begin(), variants.end(), "chapter"), variants.end());
+}
+
+TEST_F(WalkerPresetsTest, BadPresetsAreRefusedNamingFileAndKey) {
+  const std::string path = Write("preset = \"paper\"\n");
+  try {
+    LoadScenario(path);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), path);
+    EXPECT_EQ(e.key(), "controller.preset") << e.what();
+    EXPECT_EQ(e.line(), 8) << e.what();
+    EXPECT_NE(std::string(e.what()).find("\"adaptive\", \"chapter\""), std::string::npos);
+  }
+  const std::string twice = Write("preset = \"chapter\"\nbaselines = [\"chapter\"]\n");
+  try {
+    LoadScenario(twice);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "controller.baselines") << e.what();
+  }
+}
+
+}  // namespace
+}  // namespace rabbit
