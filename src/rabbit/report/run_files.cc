@@ -97,7 +97,8 @@ void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::st
 }
 
 std::string SummaryHeader() {
-  return "suite,scenario,variant,run,controller,outcome,reason,passed,failed_criteria,duration_s,"
+  return "suite,scenario,variant,run,controller,outcome,reason,passed,required,failed_criteria,"
+         "duration_s,"
          "distance_m,steps,mean_abs_speed_error_m_s,final_abs_speed_error_m_s,l_step_mean_m,"
          "l_step_min_m,l_step_max_m,l_step_spread_m,saturation_s,energy_j,cost_of_transport,"
          "pattern_memory_bytes,family,wall_s,real_time_factor";
@@ -116,7 +117,7 @@ std::string SummaryRow(const std::string& suite, const RunOutput& run) {
   out << FormatCsvCell(suite) << ',' << FormatCsvCell(run.scenario) << ',' << run.variant << ','
       << FormatCsvCell(run.run) << ',' << run.controller << ',' << OutcomeName(run.sim.outcome)
       << ',' << FormatCsvCell(run.sim.reason) << ',' << (run.passed ? 1 : 0) << ','
-      << FormatCsvCell(failed) << ',' << FormatCsvNumber(m.duration) << ','
+      << (run.required ? 1 : 0) << ',' << FormatCsvCell(failed) << ',' << FormatCsvNumber(m.duration) << ','
       << FormatCsvNumber(m.distance) << ',' << m.steps << ','
       << FormatCsvNumber(m.mean_abs_speed_error) << ',' << FormatCsvNumber(m.final_abs_speed_error)
       << ',' << FormatCsvNumber(m.l_step_mean) << ',' << FormatCsvNumber(m.l_step_min) << ','

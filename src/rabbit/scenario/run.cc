@@ -238,6 +238,7 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
   out.run = RunName(scenario, variant);
   out.controller = variant;
   out.family = scenario.family;
+  out.required = scenario.required && variant == MainVariant(scenario);
   const Model model(scenario.model);
   const SimSetup setup = MakeSimSetup(scenario, &model);
   const bool walker = variant == "fuzzy_cmac" || variant == "nearest_gait" ||

@@ -126,6 +126,7 @@ struct RunOutput {
   std::vector<WalkerTrack> tracking;
   RunMetrics metrics;
   bool passed = true;
+  bool required = false;  // its pass decides the exit code: a required scenario's main variant
   std::vector<std::string> failures;  // one message per failed criterion
   double wall = 0.0;                  // s (not deterministic: excluded from comparisons)
 };
