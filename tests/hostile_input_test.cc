@@ -502,6 +502,95 @@ std::vector<Case> Cases() {
                {},
                {"{D}/out"}});
 
+  // ---- Terrain steps, event-timed pushes, family draws: bad values named by file and key. ----
+  struct KeyRow {
+    const char* name;
+    const char* body;  // after a drop scenario's keys (line 10 on)
+    const char* where;
+    const char* key;
+    const char* fragment;
+  };
+  const KeyRow key_rows[] = {
+      {"terrain step rise = 0", "[[terrain.steps]]\nx_start = 1.0\nrise = 0.0\n", "{D}/s.toml:12",
+       "'terrain.steps[1].rise'", "nonzero and within +-1 m"},
+      {"terrain steps out of order",
+       "[[terrain.steps]]\nx_start = 1.0\nrise = 0.02\n[[terrain.steps]]\nx_start = 0.5\n"
+       "rise = -0.02\n",
+       "{D}/s.toml:14", "'terrain.steps[2].x_start'", "increasing x_start"},
+      {"terrain step with slope_deg",
+       "[terrain]\nslope_deg = 2.0\n[[terrain.steps]]\nx_start = 1.0\nrise = 0.02\n",
+       "{D}/s.toml:13", "'terrain.steps[1].x_start'", "uniform slope_deg"},
+      {"push with start and after_touchdown", "[[push]]\nstart = 1.0\nafter_touchdown = 3\n",
+       "{D}/s.toml:11", "'push[1].start'", "not both"},
+      {"push after_touchdown = 0", "[[push]]\nafter_touchdown = 0\n", "{D}/s.toml:11",
+       "'push[1].after_touchdown'", "[1, 100000]"},
+      {"push phase = 1.5", "[[push]]\nafter_touchdown = 3\nphase = 1.5\n", "{D}/s.toml:12",
+       "'push[1].phase'", "[0, 1]"},
+      {"push phase without a touchdown", "[[push]]\nat_hip_x = 2.0\nphase = 0.5\n", "{D}/s.toml:12",
+       "'push[1].phase'", "after_touchdown"},
+      {"push impulse and force", "[[push]]\nstart = 0.0\nimpulse_n_s = 5.0\nforce_x = 3.0\n",
+       "{D}/s.toml:12", "'push[1].impulse_n_s'", "not both"},
+      {"push duration = 0", "[[push]]\nstart = 0.0\nduration = 0.0\nimpulse_n_s = 5.0\n",
+       "{D}/s.toml:12", "'push[1].duration'", "> 0 s"},
+  };
+  for (const KeyRow& row : key_rows) {
+    const std::string body = row.body;
+    c.push_back({row.name,
+                 [body](const fs::path& d) {
+                   WriteText(d / "s.toml",
+                             ScenarioText("k",
+                                          "[simulation]\nduration = 0.05\n[initial]\n"
+                                          "foot_clearance = 0.02\n[controller]\n"
+                                          "type = \"pd_hold\"\nkp = 600.0\nkd = 30.0\n" +
+                                              body));
+                 },
+                 "simulate {D}/s.toml --out {D}/t.csv",
+                 2,
+                 {row.where, row.key, row.fragment},
+                 {},
+                 {"{D}/t.csv"}});
+  }
+  struct FamilyRow {
+    const char* name;
+    const char* body;  // the family's tables (line 5 on)
+    const char* where;
+    const char* key;
+    const char* fragment;
+  };
+  const FamilyRow family_rows[] = {
+      {"family draw with a bad name", "[family.draw]\n\"a b\" = [0, 1]\n", "{D}/s.toml:7",
+       "'family[1].draw.a b'", "a draw's name"},
+      {"family expression with an unknown name",
+       "[[family.scenario.push]]\nstart = 1.0\n[family.vary]\n\"push.1.start\" = \"=t0 + 1\"\n",
+       "{D}/s.toml:9", "'family[1].vary.push.1.start'", "'t0' names no draw"},
+      {"family expression dividing by zero",
+       "[[family.scenario.push]]\nstart = 1.0\n[family.draw]\nz = [0, 0]\n[family.vary]\n"
+       "\"push.1.start\" = \"=1 / z\"\n",
+       "{D}/s.toml", "'family[1].vary'", "division by zero"},
+      {"family draws in a circle", "[family.draw]\na = \"=b\"\nb = \"=a\"\n", "{D}/s.toml:7",
+       "'family[1].draw.a'", "in a circle"},
+      {"family velocity.changes count = 200",
+       "[family.vary]\n\"velocity.changes\" = { count = 200, every_s = 5, v = 0.5 }\n",
+       "{D}/s.toml:7", "'family[1].vary.velocity.changes.count'", "[0, 100]"},
+      {"family integer key drawn as a real",
+       "[[family.scenario.push]]\nafter_touchdown = 3\n[family.vary]\n"
+       "\"push.1.after_touchdown\" = [2, 5]\n",
+       "{D}/s.toml:9", "'family[1].vary.push.1.after_touchdown'", "integer = true"},
+  };
+  for (const FamilyRow& row : family_rows) {
+    const std::string body = row.body;
+    c.push_back({row.name,
+                 [body](const fs::path& d) {
+                   WriteText(d / "s.toml",
+                             "[suite]\nname = \"h\"\n[[family]]\nname = \"f\"\ncount = 2\n" + body);
+                 },
+                 "run {D}/s.toml --out {D}/out",
+                 2,
+                 {row.where, row.key, row.fragment},
+                 {},
+                 {"{D}/out"}});
+  }
+
   // ---- User regular expressions through RE2. ----
   c.push_back({"--filter with a back-reference",
                [](const fs::path&) {},

@@ -190,6 +190,62 @@ slope_deg = -3.0
   EXPECT_TRUE(none.terrain.ground.is_flat_zero());
 }
 
+// Steps join the profile: inside a slope piece they keep its slope, at a slope breakpoint they
+// join it; obstacles stand on the upper level.
+TEST_F(ScenarioFileTest, TerrainStepsJoinTheProfile) {
+  constexpr double kDeg = M_PI / 180.0;
+  const Scenario s = LoadScenario(Write("steps.toml", std::string(kMinimal) + R"(
+[terrain]
+slopes = [{ x_start = 2.0, slope_deg = -3.0 }, { x_start = 6.0, slope_deg = 0.0 }]
+steps = [{ x_start = 4.0, rise = 0.03 }, { x_start = 6.0, rise = -0.05 }, { x_start = 8.0, rise = 0.02 }]
+[[terrain.obstacles]]
+x_start = 9.0
+length = 0.2
+height = 0.05
+)"));
+  const std::vector<SlopeBreak>& b = s.terrain.ground.breaks();
+  ASSERT_EQ(b.size(), 4u);
+  EXPECT_EQ(b[1].x_start, 4.0);
+  EXPECT_DOUBLE_EQ(b[1].slope, -3.0 * kDeg);  // inside the 3 deg climb
+  EXPECT_EQ(b[1].rise, 0.03);
+  EXPECT_EQ(b[2].x_start, 6.0);  // joined with the slope breakpoint
+  EXPECT_EQ(b[2].rise, -0.05);
+  EXPECT_EQ(b[2].slope, 0.0);
+  EXPECT_EQ(b[3].slope, 0.0);
+  const double climb = 4.0 * std::tan(3 * kDeg);
+  EXPECT_NEAR(s.terrain.GroundHeight(7.0), climb + 0.03 - 0.05, 1e-12);
+  EXPECT_NEAR(s.terrain.ObstacleTop(0), climb + 0.03 - 0.05 + 0.02 + 0.05, 1e-12);
+}
+
+// Pushes given as an impulse, or timed by a touchdown or the hip's position.
+TEST_F(ScenarioFileTest, PushesByImpulseAndEvent) {
+  const Scenario s = LoadScenario(Write("push.toml", std::string(kMinimal) + R"(
+[[push]]
+after_touchdown = 7
+phase = 0.25
+duration = 0.05
+impulse_n_s = -4.0
+[[push]]
+at_hip_x = 3.0
+force_x = 30.0
+[[push]]
+start = 2.0
+impulse_n_s = 6.0
+)"));
+  ASSERT_EQ(s.pushes.size(), 3u);
+  EXPECT_EQ(s.pushes[0].after_touchdown, 7);
+  EXPECT_EQ(s.pushes[0].phase, 0.25);
+  EXPECT_TRUE(std::isnan(s.pushes[0].at_hip_x));
+  EXPECT_DOUBLE_EQ(s.pushes[0].force.x() * s.pushes[0].duration, -4.0);
+  EXPECT_TRUE(s.pushes[0].event_timed());
+  EXPECT_EQ(s.pushes[1].at_hip_x, 3.0);
+  EXPECT_EQ(s.pushes[1].after_touchdown, 0);
+  EXPECT_EQ(s.pushes[1].force.x(), 30.0);
+  EXPECT_FALSE(s.pushes[2].event_timed());
+  EXPECT_EQ(s.pushes[2].start, 2.0);
+  EXPECT_DOUBLE_EQ(s.pushes[2].force.x(), 60.0);  // over the default 0.1 s
+}
+
 TEST_F(ScenarioFileTest, BadSlopeProfilesNameTheirLineAndKey) {
   const std::string head = std::string(kMinimal) + "[terrain]\nslopes = [\n";  // lines 6, 7
   ExpectError(

@@ -214,8 +214,9 @@ value = 0.6
   EXPECT_EQ(paper.scenarios.back().family, "obstacle_anywhere");
 }
 
-// The robustness families' draws: an element of an array of arrays (velocity points), a magnitude with a random
-// sign, and a varied key of a table taken whole ([velocity]) keeping the table's other keys.
+// The robustness families' draws: an element of an array of arrays (velocity points), a magnitude
+// with a random sign, and a varied key of a table taken whole ([velocity]) keeping the table's
+// other keys.
 TEST_F(SuiteTest, FamiliesVaryNestedArraysSignsAndWholeTables) {
   const std::string text = Walker(R"([[family]]
 name = "v"
@@ -298,14 +299,26 @@ TEST_F(SuiteTest, TargetsNameGroupsOfTheSuite) {
 TEST_F(SuiteTest, RobustnessTrainingSuiteMatchesTheHeldOutOne) {
   const Suite held_out = LoadSuite(kRoot + "/scenarios/robustness.toml");
   const Suite train = LoadSuite(kRoot + "/scenarios/robustness_train.toml");
-  std::map<std::string, int> held_out_count, train_count;
+  const Suite ci = LoadSuite(kRoot + "/scenarios/robustness_ci.toml");
+  std::map<std::string, int> held_out_count, train_count, ci_count;
   auto family = [](const std::string& name) { return name.substr(0, name.rfind('-')); };
   for (const Scenario& s : held_out.scenarios) ++held_out_count[family(s.name)];
   for (const Scenario& s : train.scenarios) ++train_count[family(s.name)];
+  for (const Scenario& s : ci.scenarios) ++ci_count[family(s.name)];
   ASSERT_EQ(held_out_count.size(), train_count.size());
+  ASSERT_EQ(held_out_count.size(), ci_count.size());
   for (const auto& [name, count] : held_out_count) {
     EXPECT_GE(count, 100) << name;  // at least 100 scenarios per family
-    EXPECT_GT(train_count[name], 0) << name;
+    EXPECT_GE(train_count[name], 30) << name;
+    EXPECT_GE(ci_count[name], 2) << name;  // CI: a few members per family
+    EXPECT_LE(ci_count[name], 3) << name;
+  }
+  // The CI subset is the training suite's first members (the same seeds), never held-out ones.
+  std::map<std::string, const Scenario*> train_by_name;
+  for (const Scenario& s : train.scenarios) train_by_name[s.name] = &s;
+  for (const Scenario& s : ci.scenarios) {
+    ASSERT_EQ(train_by_name.count(s.name), 1u) << s.name;
+    EXPECT_EQ(train_by_name[s.name]->seed, s.seed) << s.name;
   }
   // Line by line, the files differ only in the documented places.
   auto lines = [](const std::string& path) {
@@ -323,6 +336,8 @@ TEST_F(SuiteTest, RobustnessTrainingSuiteMatchesTheHeldOutOne) {
   };
   EXPECT_EQ(lines(kRoot + "/scenarios/robustness.toml"),
             lines(kRoot + "/scenarios/robustness_train.toml"));
+  EXPECT_EQ(lines(kRoot + "/scenarios/robustness.toml"),
+            lines(kRoot + "/scenarios/robustness_ci.toml"));
   // No member's draws repeat across the two files (different family seeds).
   std::set<double> positions;
   for (const Scenario& s : held_out.scenarios) {

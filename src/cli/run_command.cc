@@ -221,6 +221,10 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& plan,
       WriteFileAtomically((staging / kTargetsFile).string(),
                           [&suite](std::ostream& out) { out << TargetsCsv(suite); });
     }
+    if (!suite.members.empty()) {
+      WriteFileAtomically((staging / kMembersFile).string(),
+                          [&suite](std::ostream& out) { out << MembersCsv(suite); });
+    }
     if (args.sharded) {
       const ShardInfo info{suite.name,  args.shard,  target.plan,
                            plan.size(), jobs.size(), outcome.failed_required};

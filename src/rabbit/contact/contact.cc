@@ -216,6 +216,12 @@ bool UpdateFootSurface(const Terrain& terrain, const Eigen::Vector2d& pos,
   if (surface != state->surface && surface != kGround && pos.y() < terrain.ObstacleTop(surface)) {
     return false;  // trip
   }
+  // Onto the ground across a step, below the level beyond it: the foot hit the step's face.
+  if (surface == kGround && segment != state->segment &&
+      terrain.ground.StepBetween(segment, state->segment) &&
+      pos.y() < terrain.ground.segment(segment).HeightAt(pos.x())) {
+    return false;  // trip
+  }
   // A sticking foot crossing a breakpoint of the ground keeps its spring's stretch: the anchor
   // moves onto the new segment's line (re-measured there, the foot's depth along the old normal
   // would turn into a stretch along the new tangent, a jump in the friction force).

@@ -28,7 +28,8 @@
 //                     sticks as soon as its normal force can hold it (as the chapter's eq. 3);
 //   the foot crosses an obstacle's edge or a breakpoint of the ground profile (its surface or
 //                     segment changes; a foot in contact that finds itself above its new surface
-//                     goes to the air).
+//                     goes to the air; a foot that crosses a step below the level beyond it has
+//                     hit the step's face: a trip, as at an obstacle's side).
 #ifndef RABBIT_CONTACT_CONTACT_H_
 #define RABBIT_CONTACT_CONTACT_H_
 
@@ -113,7 +114,8 @@ void OnFrictionEvent(const ContactParams& params, const Terrain& terrain,
                      FootContactState* state);
 
 // Re-evaluates which surface and ground segment the foot is above after a span or segment guard
-// fired. Returns false when the foot entered an obstacle through its side (a trip); otherwise
+// fired. Returns false when the foot entered an obstacle through its side or crossed a step's
+// face below the level beyond it (a trip); otherwise
 // updates them (a foot in contact that leaves an obstacle's top, or crosses onto a ground segment
 // that it is above, goes to the air; a sticking foot crossing a breakpoint keeps its spring's
 // stretch, its anchor moved onto the new segment).

@@ -39,7 +39,7 @@ GroundProfile::GroundProfile(std::vector<SlopeBreak> breaks) : breaks_(std::move
     s.x_start = b.x_start;
     s.x_end = k < n ? breaks_[k].x_start : kInf;
     s.x_ref = b.x_start;
-    s.height = before.HeightAt(b.x_start);  // continuous at the breakpoint
+    s.height = before.HeightAt(b.x_start) + b.rise;  // continuous but at a step
     s.slope = b.slope;
     s.grade = -std::tan(b.slope);
     s.cos_slope = std::cos(b.slope);
@@ -47,8 +47,8 @@ GroundProfile::GroundProfile(std::vector<SlopeBreak> breaks) : breaks_(std::move
   }
   // Then shifted so that H(0) = 0 (a linear search: the breakpoints are not checked yet).
   size_t at_zero = 0;
-  while (at_zero < n && breaks_[at_zero].x_start <= 0.0) ++at_zero;
-  const double offset = segments_[at_zero].HeightAt(0.0);
+  while (at_zero < n && breaks_[at_zero].x_start < 0.0) ++at_zero;
+  const double offset = segments_[at_zero].HeightAt(0.0);  // at a step at 0: the level before
   if (offset != 0.0) {
     for (GroundSegment& s : segments_) s.height -= offset;
   }
@@ -58,7 +58,7 @@ bool GroundProfile::IsValid(std::string* error) const {
   for (size_t i = 0; i < breaks_.size(); ++i) {
     const SlopeBreak& b = breaks_[i];
     const std::string name = "slope breakpoint " + std::to_string(i + 1);
-    if (!std::isfinite(b.x_start) || !std::isfinite(b.slope)) {
+    if (!std::isfinite(b.x_start) || !std::isfinite(b.slope) || !std::isfinite(b.rise)) {
       *error = name + ": values must be finite";
       return false;
     }
@@ -68,6 +68,10 @@ bool GroundProfile::IsValid(std::string* error) const {
     }
     if (!(std::abs(b.slope) < kMaxSlope)) {
       *error = name + ": the slope must be below 30 deg in magnitude";
+      return false;
+    }
+    if (std::abs(b.rise) > kMaxRise) {
+      *error = name + ": a step's rise must be within +-1 m";
       return false;
     }
     if (i > 0 && !(b.x_start > breaks_[i - 1].x_start)) {
@@ -84,6 +88,26 @@ int GroundProfile::SegmentAt(double x) const {
   const auto after = std::upper_bound(breaks_.begin(), breaks_.end(), x,
                                       [](double v, const SlopeBreak& b) { return v < b.x_start; });
   return static_cast<int>(after - breaks_.begin());
+}
+
+bool GroundProfile::StepBetween(int a, int b) const {
+  // Segment i > 0 starts at breaks_[i - 1]: crossing from a to b passes breaks_[min..max - 1].
+  for (int i = std::min(a, b); i < std::max(a, b); ++i) {
+    if (breaks_[i].rise != 0.0) return true;
+  }
+  return false;
+}
+
+std::vector<Eigen::Vector2d> GroundProfile::Outline(double x_lo, double x_hi) const {
+  std::vector<Eigen::Vector2d> points = {{x_lo, HeightAt(x_lo)}};
+  for (size_t i = 0; i < breaks_.size(); ++i) {
+    const double x = breaks_[i].x_start;
+    if (!(x > x_lo && x < x_hi)) continue;
+    if (breaks_[i].rise != 0.0) points.emplace_back(x, segments_[i].HeightAt(x));
+    points.emplace_back(x, segments_[i + 1].HeightAt(x));
+  }
+  points.emplace_back(x_hi, HeightAt(x_hi));
+  return points;
 }
 
 bool Terrain::IsValid(std::string* error) const {
@@ -151,6 +175,23 @@ int Terrain::SegmentHitsObstacle(const Eigen::Vector2d& a, const Eigen::Vector2d
       }
     }
     if (!outside) return static_cast<int>(i);
+  }
+  return -1;
+}
+
+int Terrain::SegmentHitsStepFace(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                                 double top_margin) const {
+  const std::vector<SlopeBreak>& breaks = ground.breaks();
+  const double lo_x = std::min(a.x(), b.x()), hi_x = std::max(a.x(), b.x());
+  for (size_t i = 0; i < breaks.size(); ++i) {
+    const double x = breaks[i].x_start;
+    if (breaks[i].rise == 0.0 || x < lo_x || x > hi_x || lo_x == hi_x) continue;
+    const double before = ground.segment(static_cast<int>(i)).HeightAt(x);
+    const double after = ground.segment(static_cast<int>(i) + 1).HeightAt(x);
+    const double y = a.y() + (b.y() - a.y()) * (x - a.x()) / (b.x() - a.x());
+    if (y > std::min(before, after) && y < std::max(before, after) - top_margin) {
+      return static_cast<int>(i);
+    }
   }
   return -1;
 }

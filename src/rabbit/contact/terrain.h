@@ -1,5 +1,5 @@
-// Terrain: the ground, a piecewise-linear height profile (flat y = 0 by default), plus
-// rectangular obstacles standing on flat parts of it (docs/design.md, "Contact").
+// Terrain: the ground, a piecewise-linear height profile (flat y = 0 by default) with vertical
+// steps, plus rectangular obstacles standing on flat parts of it (docs/design.md, "Contact").
 #ifndef RABBIT_CONTACT_TERRAIN_H_
 #define RABBIT_CONTACT_TERRAIN_H_
 
@@ -18,12 +18,13 @@ struct Obstacle {
 };
 
 // A breakpoint of the ground profile: from x_start on (up to the next breakpoint) the ground has
-// this slope.
+// this slope; with a rise, the ground jumps there by `rise` (a vertical step, its face at x_start).
 struct SlopeBreak {
   double x_start = 0.0;  // m
   // rad, positive when the ground descends toward +x: the sign of the uniform slope
   // (ModelParams::slope), so that a breakpoint's slope means what `slope_deg` means.
   double slope = 0.0;
+  double rise = 0.0;  // m, + up (toward +x), - down; 0: the ground is continuous here
 };
 
 // A straight piece of ground, y = height + grade (x - x_ref) for x in [x_start, x_end). The
@@ -38,17 +39,19 @@ struct GroundSegment {
   double HeightAt(double x) const { return height + grade * (x - x_ref); }
 };
 
-// The ground's height profile y = H(x): piecewise linear and continuous, flat before the first
-// breakpoint, with H(0) = 0. Segment 0 is the flat lead-in before the first breakpoint, segment
-// i > 0 starts at breakpoint i - 1. No breakpoints: flat ground y = 0 (one segment).
+// The ground's height profile y = H(x): piecewise linear, continuous but at steps (breakpoints
+// with a rise, where H jumps; H(x_start) is the new level), flat before the first breakpoint,
+// with H(0) = 0 (at a step at 0: the level before it). Segment 0 is the flat lead-in before the
+// first breakpoint, segment i > 0 starts at breakpoint i - 1. No breakpoints: flat ground y = 0
+// (one segment).
 class GroundProfile {
  public:
   GroundProfile();
   // Breakpoints in increasing x_start (IsValid checks them and their bounds).
   explicit GroundProfile(std::vector<SlopeBreak> breaks);
 
-  // Finite breakpoints, strictly increasing x_start within +-1e4 m, |slope| < kMaxSlope; else
-  // names the breakpoint (1-based) in *error.
+  // Finite breakpoints, strictly increasing x_start within +-1e4 m, |slope| < kMaxSlope,
+  // |rise| <= kMaxRise; else names the breakpoint (1-based) in *error.
   bool IsValid(std::string* error) const;
   const std::vector<SlopeBreak>& breaks() const { return breaks_; }
   // True when the ground is the default y = 0 (no breakpoint).
@@ -60,9 +63,16 @@ class GroundProfile {
   int SegmentAt(double x) const;
   double HeightAt(double x) const { return segments_[SegmentAt(x)].HeightAt(x); }
   double SlopeAt(double x) const { return segments_[SegmentAt(x)].slope; }
+  // Whether the boundary between segments a and b (any order) holds a step: a foot crossing it
+  // below the new segment hits the step's face.
+  bool StepBetween(int a, int b) const;
+  // The ground's outline over [x_lo, x_hi] as a polyline for drawing: the ends, every breakpoint
+  // inside, and at a step both levels (a vertical face).
+  std::vector<Eigen::Vector2d> Outline(double x_lo, double x_hi) const;
 
   static constexpr double kMaxSlope = 30.0 * M_PI / 180.0;  // rad
   static constexpr double kMaxAbsX = 1e4;                   // m
+  static constexpr double kMaxRise = 1.0;                   // m, a step's |rise|
 
  private:
   std::vector<SlopeBreak> breaks_;
@@ -94,6 +104,10 @@ struct Terrain {
   // Index of the first obstacle whose interior, lowered by top_margin (the contact penetration
   // allowed to a foot standing on it), the segment a-b enters; -1 when none.
   int SegmentHitsObstacle(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                          double top_margin) const;
+  // Index of the first breakpoint with a step whose face (the vertical from the lower level to
+  // the upper one lowered by top_margin) the segment a-b crosses; -1 when none.
+  int SegmentHitsStepFace(const Eigen::Vector2d& a, const Eigen::Vector2d& b,
                           double top_margin) const;
   // Horizontal distance from x to the near edge of the next obstacle ahead (x_start >= x), or
   // +infinity when there is none.

@@ -254,17 +254,19 @@ void ReadTracking(const std::string& path, Tracking* tracking) {
   }
 }
 
-// The ground profile: ground.csv (x_start_m, slope_deg; height_m is derived), absent in reports
-// written before it existed: flat ground.
+// The ground profile: ground.csv (x_start_m, slope_deg, rise_m; height_m is derived), absent in
+// reports written before it existed: flat ground.
 GroundProfile ReadGround(const std::string& path) {
   if (!fs::exists(path)) return GroundProfile();
   const CsvTable table = CsvTable::Read(path);
   const size_t c_x = table.Column("x_start_m"), c_slope = table.Column("slope_deg");
+  const bool has_rise = table.HasColumn("rise_m");  // written since steps exist
   std::vector<SlopeBreak> breaks;
   for (size_t r = 0; r < table.num_rows(); ++r) {
     SlopeBreak b;
     b.x_start = table.Number(r, c_x);
     b.slope = table.Number(r, c_slope) * M_PI / 180.0;
+    if (has_rise) b.rise = table.Number(r, table.Column("rise_m"));
     breaks.push_back(b);
   }
   if (breaks.empty()) return GroundProfile();

@@ -187,13 +187,9 @@ size_t StickDiagramFigure(const RunData& run, const Window& w, const SuiteReport
   x_hi += 0.15;
   // The ground in the window: its vertices (the window's ends and the profile's breakpoints).
   const Terrain& terrain = run.terrain;
-  std::vector<double> ground_x = {x_lo};
-  for (const SlopeBreak& b : terrain.ground.breaks()) {
-    if (b.x_start > x_lo && b.x_start < x_hi) ground_x.push_back(b.x_start);
-  }
-  ground_x.push_back(x_hi);
+  const std::vector<Eigen::Vector2d> outline = terrain.ground.Outline(x_lo, x_hi);
   double ground_lo = std::numeric_limits<double>::infinity();
-  for (double x : ground_x) ground_lo = std::min(ground_lo, terrain.GroundHeight(x));
+  for (const Eigen::Vector2d& p : outline) ground_lo = std::min(ground_lo, p.y());
   const double y_lo = ground_lo - 0.08;
   y_hi = std::max(y_hi, ground_lo + 0.5) + 0.08;
   // Equal scales on both axes, at most kPixelsPerMetre so that a short window is not blown up.
@@ -225,13 +221,13 @@ size_t StickDiagramFigure(const RunData& run, const Window& w, const SuiteReport
       << ",0 nohead lw 2 lc rgb '#555555' back\n";
   } else {
     s << "set object 1 polygon from " << x_lo << ',' << y_lo;
-    for (double x : ground_x) s << " to " << x << ',' << terrain.GroundHeight(x);
+    for (const Eigen::Vector2d& p : outline) s << " to " << p.x() << ',' << p.y();
     s << " to " << x_hi << ',' << y_lo << " to " << x_lo << ',' << y_lo
       << " fc rgb '#efe8dc' fs solid 1.0 noborder behind\n";
-    for (size_t i = 0; i + 1 < ground_x.size(); ++i) {
-      s << "set arrow " << i + 1 << " from " << ground_x[i] << ','
-        << terrain.GroundHeight(ground_x[i]) << " to " << ground_x[i + 1] << ','
-        << terrain.GroundHeight(ground_x[i + 1]) << " nohead lw 2 lc rgb '#555555' back\n";
+    for (size_t i = 0; i + 1 < outline.size(); ++i) {
+      s << "set arrow " << i + 1 << " from " << outline[i].x() << ',' << outline[i].y() << " to "
+        << outline[i + 1].x() << ',' << outline[i + 1].y()
+        << " nohead lw 2 lc rgb '#555555' back\n";
     }
   }
   int object = 2;

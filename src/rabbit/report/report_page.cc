@@ -486,6 +486,11 @@ std::string TerrainText(const Terrain& terrain) {
                       deg < 0.0 ? "up" : "down", std::abs(deg), breaks[k].x_start);
       }
       out += buffer;
+      if (breaks[k].rise != 0.0) {
+        std::snprintf(buffer, sizeof buffer, " after a step %s %.1f cm",
+                      breaks[k].rise > 0.0 ? "up" : "down", std::abs(breaks[k].rise) * 100.0);
+        out += buffer;
+      }
     }
     if (!obstacles.empty()) out += "; ";
   }

@@ -14,12 +14,15 @@ namespace {
 
 constexpr double kRadToDeg = 180.0 / M_PI;
 
-// "start_s:duration_s:force_x_n:force_y_n:height_m;..." (empty: none).
-std::string PushesText(const std::vector<TrunkPush>& pushes) {
+// "start_s:duration_s:force_x_n:force_y_n:height_m;..." (empty: none); an event-timed push's
+// start is when its event came in the run (nan: never).
+std::string PushesText(const std::vector<TrunkPush>& pushes, const std::vector<double>& starts) {
   std::string out;
-  for (const TrunkPush& p : pushes) {
+  for (size_t i = 0; i < pushes.size(); ++i) {
+    const TrunkPush& p = pushes[i];
+    const double start = i < starts.size() ? starts[i] : p.start;
     if (!out.empty()) out += ';';
-    out += FormatCsvNumber(p.start) + ':' + FormatCsvNumber(p.duration) + ':' +
+    out += FormatCsvNumber(start) + ':' + FormatCsvNumber(p.duration) + ':' +
            FormatCsvNumber(p.force.x()) + ':' + FormatCsvNumber(p.force.y()) + ':' +
            FormatCsvNumber(p.height);
   }
@@ -41,7 +44,7 @@ void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::st
         << FormatCsvNumber(scenario.options.control_period) << "\nvelocity_profile,"
         << VelocityProfileKindName(scenario.velocity.kind) << "\nstart_gait,"
         << FormatCsvCell(scenario.start_gait) << "\nseed," << scenario.seed << "\npushes,"
-        << FormatCsvCell(PushesText(scenario.pushes)) << "\nv_m_noise_std_m_s,"
+        << FormatCsvCell(PushesText(scenario.pushes, run.sim.push_starts)) << "\nv_m_noise_std_m_s,"
         << FormatCsvNumber(scenario.walker.v_m_noise) << "\nd_obs_noise_std_m,"
         << FormatCsvNumber(scenario.walker.d_obs_noise) << "\noutcome,"
         << OutcomeName(run.sim.outcome) << "\nreason," << FormatCsvCell(run.sim.reason) << "\n";
@@ -88,10 +91,11 @@ void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::st
     }
   });
   WriteFileAtomically((base / "ground.csv").string(), [&](std::ostream& out) {
-    out << "x_start_m,slope_deg,height_m\n";
+    out << "x_start_m,slope_deg,height_m,rise_m\n";
     for (const SlopeBreak& b : terrain.ground.breaks()) {
       out << FormatCsvNumber(b.x_start) << ',' << FormatCsvNumber(b.slope * 180.0 / M_PI) << ','
-          << FormatCsvNumber(terrain.GroundHeight(b.x_start)) << '\n';
+          << FormatCsvNumber(terrain.GroundHeight(b.x_start)) << ',' << FormatCsvNumber(b.rise)
+          << '\n';
     }
   });
 }

@@ -19,6 +19,7 @@
 #include "rabbit/io/output_ownership.h"
 #include "rabbit/report/comparison.h"
 #include "rabbit/report/run_files.h"
+#include "rabbit/scenario/suite.h"
 #include "rabbit/scenario/suite_inputs.h"
 
 namespace rabbit {
@@ -379,6 +380,10 @@ MergedShards MergeShards(const std::string& dir_text,
     // The suite's success targets, the same in every shard.
     if (fs::exists(found.front().folder / kTargetsFile)) {
       fs::copy_file(found.front().folder / kTargetsFile, staging / kTargetsFile);
+    }
+    // So are the family members' draws.
+    if (fs::exists(found.front().folder / kMembersFile)) {
+      fs::copy_file(found.front().folder / kMembersFile, staging / kMembersFile);
     }
     for (const FoundShard& f : found) {
       for (const std::string& run : f.runs) {

@@ -75,18 +75,14 @@ std::string StickDiagramSvg(const Model& model, const std::vector<SimSample>& sa
   x_lo -= 0.1;
   x_hi += 0.1;
   // The vertical range from the ground under the figures (flat ground: y = 0).
-  std::vector<double> ground_x = {x_lo};
-  for (const SlopeBreak& b : terrain.ground.breaks()) {
-    if (b.x_start > x_lo && b.x_start < x_hi) ground_x.push_back(b.x_start);
-  }
-  ground_x.push_back(x_hi);
+  const std::vector<Eigen::Vector2d> outline = terrain.ground.Outline(x_lo, x_hi);
   double ground_lo = 0.0, ground_hi = 0.0;
   if (!terrain.ground.is_flat_zero()) {
     ground_lo = std::numeric_limits<double>::infinity();
     ground_hi = -ground_lo;
-    for (double x : ground_x) {
-      ground_lo = std::min(ground_lo, terrain.GroundHeight(x));
-      ground_hi = std::max(ground_hi, terrain.GroundHeight(x));
+    for (const Eigen::Vector2d& p : outline) {
+      ground_lo = std::min(ground_lo, p.y());
+      ground_hi = std::max(ground_hi, p.y());
     }
   }
   const double y_lo = ground_lo - 0.05, y_hi = ground_hi + 1.6;
@@ -128,7 +124,7 @@ std::string StickDiagramSvg(const Model& model, const std::vector<SimSample>& sa
         << "' stroke='#555' stroke-width='2'/>";
   } else {
     svg << "<polyline fill='none' stroke='#555' stroke-width='2' points='";
-    for (double x : ground_x) svg << X(x) << ',' << Y(terrain.GroundHeight(x)) << ' ';
+    for (const Eigen::Vector2d& p : outline) svg << X(p.x()) << ',' << Y(p.y()) << ' ';
     svg << "'/>";
   }
   for (size_t i = 0; i < terrain.obstacles.size(); ++i) {

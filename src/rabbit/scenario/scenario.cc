@@ -5,6 +5,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
+#include <limits>
 #include <map>
 #include <mutex>
 #include <utility>
@@ -112,7 +114,8 @@ ActuatorParams ReadActuator(TomlReader t) {
 }
 
 // [terrain]: a uniform slope (slope_deg, the tilted-gravity frame) or a ground profile
-// (slopes = [{x_start, slope_deg}, ...]), not both; obstacles on flat ground.
+// (slopes = [{x_start, slope_deg}, ...]), not both; vertical steps (steps = [{x_start, rise}, ...])
+// on the profile; obstacles on flat ground.
 Terrain ReadTerrain(TomlReader t, ModelParams* model) {
   Terrain terrain;
   model->slope = t.Double("slope_deg", model->slope / kDeg) * kDeg;
@@ -143,6 +146,44 @@ Terrain ReadTerrain(TomlReader t, ModelParams* model) {
     t.Fail("slopes",
            "a ground profile does not combine with a uniform slope_deg (the tilted-gravity frame): "
            "give one of them (a profile with one breakpoint before the walk is a uniform slope)");
+  }
+  // Vertical steps: breakpoints with a rise, on whatever slope the profile has there (one at a
+  // slope breakpoint's x_start joins it).
+  std::vector<TomlReader> steps = t.TableArray("steps");
+  double previous_step = -std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < steps.size(); ++i) {
+    TomlReader& st = steps[i];
+    const double x = st.RequiredDouble("x_start");
+    const double rise = st.RequiredDouble("rise");
+    st.Finish();
+    if (std::abs(x) > GroundProfile::kMaxAbsX) st.Fail("x_start", "beyond +-1e4 m");
+    if (!(x > previous_step)) {
+      char message[120];
+      std::snprintf(message, sizeof message,
+                    "steps must be in increasing x_start (the previous one is at %g m)",
+                    previous_step);
+      st.Fail("x_start", message);
+    }
+    previous_step = x;
+    if (rise == 0.0 || std::abs(rise) > GroundProfile::kMaxRise) {
+      st.Fail("rise", "a step's rise is nonzero and within +-1 m (+ up, - down)");
+    }
+    if (model->slope != 0.0) {
+      st.Fail("x_start",
+              "steps do not combine with a uniform slope_deg (the tilted-gravity frame): give the "
+              "slope as a ground profile ([[terrain.slopes]])");
+    }
+    auto at = std::lower_bound(breaks.begin(), breaks.end(), x,
+                               [](const SlopeBreak& b, double v) { return b.x_start < v; });
+    if (at != breaks.end() && at->x_start == x) {
+      at->rise = rise;
+    } else {
+      SlopeBreak brk;
+      brk.x_start = x;
+      brk.slope = at == breaks.begin() ? 0.0 : std::prev(at)->slope;
+      brk.rise = rise;
+      breaks.insert(at, brk);
+    }
   }
   if (!breaks.empty()) terrain.ground = GroundProfile(std::move(breaks));
   std::vector<TomlReader> obstacles = t.TableArray("obstacles");
@@ -378,9 +419,35 @@ std::vector<TrunkPush> ReadPushes(TomlReader* root) {
   std::vector<TrunkPush> pushes;
   for (TomlReader& t : root->TableArray("push")) {
     TrunkPush p;
-    p.start = t.RequiredDouble("start");
+    // When: a start time, or an event (a touchdown, the hip passing a point, or both).
+    const bool on_event = t.Has("after_touchdown") || t.Has("at_hip_x");
+    if (on_event && t.Has("start")) {
+      t.Fail("start",
+             "a push starts at `start` or on an event (after_touchdown, at_hip_x), "
+             "not both");
+    }
+    if (!on_event) p.start = t.RequiredDouble("start");
+    constexpr long kMaxTouchdown = 100000;
+    p.after_touchdown = static_cast<int>(t.Integer("after_touchdown", 0, 1, kMaxTouchdown));
+    if (t.Has("phase") && p.after_touchdown == 0) {
+      t.Fail("phase", "phase times a push after a touchdown: give after_touchdown = k too");
+    }
+    p.phase = t.Double("phase", 0.0);
+    if (!(p.phase >= 0.0 && p.phase <= 1.0)) t.Fail("phase", "a fraction of the step in [0, 1]");
+    if (t.Has("at_hip_x")) {
+      p.at_hip_x = t.Double("at_hip_x", 0.0);
+      if (std::abs(p.at_hip_x) > 1e4) t.Fail("at_hip_x", "beyond +-1e4 m");
+    }
     p.duration = t.Double("duration", p.duration);
-    p.force = Vec2(t.Double("force_x", 0.0), t.Double("force_y", 0.0));
+    if (!(p.duration > 0.0)) t.Fail("duration", "must be > 0 s");
+    // How much: a force, or an impulse over the duration (force_x = impulse_n_s / duration).
+    if (t.Has("impulse_n_s")) {
+      if (t.Has("force_x")) t.Fail("impulse_n_s", "give force_x or impulse_n_s, not both");
+      p.force.x() = t.Double("impulse_n_s", 0.0) / p.duration;
+    } else {
+      p.force.x() = t.Double("force_x", 0.0);
+    }
+    p.force.y() = t.Double("force_y", 0.0);
     p.height = t.Double("height", p.height);
     t.Finish();
     std::string error;
@@ -892,7 +959,7 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name, const Pa
   }
   // "shards" is where a sharded run's parts wait for their merge (rabbit/report/shards.h).
   if (s.name == "summary.csv" || s.name == "comparison.csv" || s.name == "targets.csv" ||
-      s.name == "index.html" || s.name == "shards" || s.name[0] == '.') {
+      s.name == "members.csv" || s.name == "index.html" || s.name == "shards" || s.name[0] == '.') {
     root.Fail("name", "\"" + s.name + "\" is taken by the report's own files");
   }
   s.description = root.String("description", "");

@@ -1,5 +1,7 @@
 #include "rabbit/scenario/suite.h"
 
+#include <algorithm>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
@@ -10,6 +12,7 @@
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/learn/cmac.h"
+#include "rabbit/scenario/family_draws.h"
 
 namespace rabbit {
 namespace {
@@ -54,7 +57,15 @@ std::string SetOverride(const std::vector<const toml::table*>& layers, const std
     if (found == nullptr) return "names no value of the template (no '" + key + "')";
     if (i + 1 == parts.size()) {
       if (!found->is_number()) return "is not a number in the template";
-      out->insert_or_assign(key, value);
+      if (found->is_integer()) {  // an integer key (after_touchdown, ...) takes a whole number
+        if (std::floor(value) != value || std::abs(value) > 1e15) {
+          return "is an integer in the template: draw it with { range = [low, high], integer = "
+                 "true }";
+        }
+        out->insert_or_assign(key, static_cast<int64_t>(value));
+      } else {
+        out->insert_or_assign(key, value);
+      }
       return "";
     }
     if (found->is_array()) {
@@ -114,7 +125,55 @@ std::string SetOverride(const std::vector<const toml::table*>& layers, const std
   return "";
 }
 
+// Writes a member's generated velocity profile (velocity.changes) over the template's [velocity]
+// table (taken whole, from the highest layer that has one): its profile and points replaced, a
+// constant profile's value dropped.
+void SetVelocity(const std::vector<const toml::table*>& layers, const MemberDraws& drawn,
+                 toml::table* overrides) {
+  toml::table velocity;
+  for (const toml::table* t : layers) {
+    if (const toml::node* n = t->get("velocity"); n != nullptr && n->is_table()) {
+      velocity = *n->as_table();
+      break;
+    }
+  }
+  velocity.erase("value");
+  velocity.insert_or_assign("profile", drawn.velocity_profile);
+  toml::array points;
+  for (const auto& [t, v] : drawn.velocity_points) points.push_back(toml::array{t, v});
+  velocity.insert_or_assign("points", std::move(points));
+  overrides->insert_or_assign("velocity", std::move(velocity));
+}
+
 }  // namespace
+
+std::string MembersCsv(const Suite& suite) {
+  if (suite.members.empty()) return "";
+  // The columns: every family's drawn keys, in order of first appearance.
+  std::vector<std::string> columns;
+  std::map<std::string, size_t> column_of;
+  for (const FamilyMembers& f : suite.members) {
+    for (const MemberRow& m : f.members) {
+      for (const auto& [key, value] : m.values) {
+        if (column_of.emplace(key, columns.size()).second) columns.push_back(key);
+      }
+    }
+  }
+  std::string out = "family,scenario,seed";
+  for (const std::string& c : columns) out += ',' + FormatCsvCell(c);
+  out += '\n';
+  std::vector<std::string> cells(columns.size());
+  for (const FamilyMembers& f : suite.members) {
+    for (const MemberRow& m : f.members) {
+      std::fill(cells.begin(), cells.end(), std::string());
+      for (const auto& [key, value] : m.values) cells[column_of[key]] = FormatCsvNumber(value);
+      out += FormatCsvCell(f.family) + ',' + FormatCsvCell(m.name) + ',' + std::to_string(m.seed);
+      for (const std::string& c : cells) out += ',' + c;
+      out += '\n';
+    }
+  }
+  return out;
+}
 
 std::string TargetsCsv(const Suite& suite) {
   std::string out = "group,target_success_rate\n";
@@ -199,44 +258,15 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
     const auto seed =
         static_cast<std::uint64_t>(f.Integer("seed", 1, 0, std::numeric_limits<long>::max()));
     TomlReader templ = f.Table("scenario");
+    TomlReader draw = f.Table("draw");
     TomlReader vary = f.Table("vary");
     f.Finish();
-    // The varied keys, in file order.
-    struct Range {
-      std::string key;
-      double low = 0.0, high = 0.0;
-      bool random_sign = false;  // the drawn magnitude gets a random sign
-    };
-    std::vector<Range> ranges;
-    for (const toml::table* layer : vary.layers()) {
-      for (const auto& [key, node] : *layer) {
-        const std::string k(key.str());
-        if (k == "name" || k == "seed" || k.rfind("name.", 0) == 0 || k.rfind("seed.", 0) == 0) {
-          vary.Fail(k,
-                    "a family member's name and seed are not varied (they come from the family)");
-        }
-        Range r;
-        r.key = k;
-        std::vector<double> range;
-        if (node.is_table()) {  // { range = [low, high], random_sign = true }
-          TomlReader t = vary.Table(k);
-          if (!t.Has("range")) t.Fail("range", "missing required key 'range'");
-          range = t.Doubles("range", {}, 2);
-          r.random_sign = t.Bool("random_sign", false);
-          t.Finish();
-        } else {
-          range = vary.Doubles(k, {}, 2);
-        }
-        if (!(range[0] <= range[1])) vary.Fail(k, "expected [low, high] with low <= high");
-        r.low = range[0];
-        r.high = range[1];
-        ranges.push_back(r);
-      }
-    }
-    vary.Finish();
+    const FamilyDrawSpec spec = ReadFamilyDrawSpec(&draw, &vary);
     std::vector<const toml::table*> base = templ.layers();
     base.insert(base.end(), default_layers.begin(), default_layers.end());
     const bool template_seeds = templ.Has("seed");
+    FamilyMembers record_members;
+    record_members.family = name;
     for (int i = 0; i < count; ++i) {
       auto overrides = std::make_shared<toml::table>();
       char member[16];
@@ -247,11 +277,15 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
             "seed", static_cast<int64_t>(
                         CmacHashStep(CmacMix64(seed), static_cast<std::uint64_t>(i)) >> 2));
       }
-      for (const Range& r : ranges) {
-        double value = FamilyDraw(seed, i, r.key, r.low, r.high);
-        if (r.random_sign && FamilyDraw(seed, i, r.key + "#sign", 0.0, 1.0) < 0.5) value = -value;
-        const std::string error = SetOverride(base, r.key, value, overrides.get());
-        if (!error.empty()) vary.Fail(r.key, "'" + r.key + "' " + error);
+      MemberDraws drawn;
+      std::string error;
+      if (!DrawMember(spec, seed, i, &drawn, &error)) {
+        vary.Fail("", "member " + name + member + ": " + error);
+      }
+      if (spec.changes.present) SetVelocity(base, drawn, overrides.get());
+      for (const auto& [key, value] : drawn.keys) {
+        error = SetOverride(base, key, value, overrides.get());
+        if (!error.empty()) vary.Fail(key, "'" + key + "' " + error);
       }
       std::vector<std::shared_ptr<const toml::table>> owners = templ.owners();
       owners.push_back(overrides);
@@ -262,7 +296,10 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
                                  f.prefix() + ".scenario (" + name + member + ")", templ.line()),
           "", overlay, record()));
       suite.scenarios.back().family = name;
+      record_members.members.push_back(
+          MemberRow{name + member, suite.scenarios.back().seed, std::move(drawn.columns)});
     }
+    suite.members.push_back(std::move(record_members));
   }
   root.Finish();
   if (suite.scenarios.empty()) root.Fail("", "the suite has no [[scenario]] and no [[family]]");

@@ -7,8 +7,12 @@
 //   [[family]]               a randomised family, expanded deterministically into `count` scenarios
 //     name, count, seed
 //     [family.scenario]      the template (over [defaults])
-//     [family.vary]          "dotted.key.path" = [low, high]: drawn uniformly per member; array
-//                            elements by 1-based index, e.g. "terrain.obstacles.1.x_start"
+//     [family.draw]          name = [low, high] (or a table, or "=expression"): a named draw that
+//                            several keys can share
+//     [family.vary]          "dotted.key.path" = [low, high] or "=expression" (over the draws):
+//                            drawn per member; array elements by 1-based index, e.g.
+//                            "terrain.obstacles.1.x_start"; "velocity.changes" = { count, every_s,
+//                            v, ... } generates the velocity profile (family_draws.h)
 //   Member i (0-based) is named <family name>-<i, 3 digits>, gets seed = a hash of (family seed, i)
 //   unless the template sets one, and draws its values from a hash of (seed, i, key name):
 //   the same members whatever the machine, the thread count or the other families.
@@ -27,6 +31,17 @@
 
 namespace rabbit {
 
+// One member of a family and the values it drew (key path or draw name, value), in draw order.
+struct MemberRow {
+  std::string name;
+  std::uint64_t seed = 0;
+  std::vector<std::pair<std::string, double>> values;
+};
+struct FamilyMembers {
+  std::string family;
+  std::vector<MemberRow> members;
+};
+
 struct Suite {
   std::string file, name, description;
   std::vector<Scenario> scenarios;  // file order, families expanded in place
@@ -34,7 +49,16 @@ struct Suite {
   // a plain scenario), in (0, 1]; reported (comparison.csv, the page) with the gap, never failing
   // the run. In file order.
   std::vector<std::pair<std::string, double>> targets;
+  // Every family's members with their draws, in file order (members.csv).
+  std::vector<FamilyMembers> members;
 };
+
+// The name of the report file listing every family member's draws.
+constexpr const char* kMembersFile = "members.csv";
+// Its text: family,scenario,seed and one column per drawn key or draw name (over all families,
+// in order of first appearance; empty where a family does not draw it). Empty when the suite has
+// no family.
+std::string MembersCsv(const Suite& suite);
 
 // The text of a report's targets.csv (group,target_success_rate; see kTargetsFile in
 // rabbit/report/comparison.h), written by `rabbit run` when the suite has targets.

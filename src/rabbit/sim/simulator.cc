@@ -8,6 +8,8 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "rabbit/sim/push_schedule.h"
+
 namespace rabbit {
 
 const char* OutcomeName(Outcome outcome) {
@@ -79,6 +81,15 @@ bool TrunkPush::IsValid(std::string* error) const {
   }
   if (force.norm() > 1e4 || std::abs(height) > 2.0) {
     *error = "push beyond sensible bounds (|force| <= 1e4 N, |height| <= 2 m)";
+    return false;
+  }
+  if (after_touchdown < 0 || after_touchdown > 100000 || !(phase >= 0.0 && phase <= 1.0) ||
+      std::isinf(at_hip_x) || std::abs(at_hip_x) > 1e4) {
+    *error = "push event: after_touchdown in [0, 100000], phase in [0, 1], |at_hip_x| <= 1e4 m";
+    return false;
+  }
+  if (event_timed() && start != 0.0) {
+    *error = "a push timed by an event (after_touchdown, at_hip_x) has no start time";
     return false;
   }
   return true;
@@ -188,6 +199,13 @@ bool CheckState(const SimSetup& setup, const SimSample& s, const Pose& pose, Sim
             Describe(leg == 0 ? "leg 1 hit an obstacle" : "leg 2 hit an obstacle", s.t);
         return false;
       }
+      if (terrain.SegmentHitsStepFace(pose.knee[leg], pose.foot[leg], kObstacleTopMargin) >= 0 ||
+          terrain.SegmentHitsStepFace(pose.hip, pose.knee[leg], kObstacleTopMargin) >= 0) {
+        result->outcome = Outcome::kTripped;
+        result->reason =
+            Describe(leg == 0 ? "leg 1 hit a step's face" : "leg 2 hit a step's face", s.t);
+        return false;
+      }
     }
   }
   const FallCriteria& fall = setup.options.fall;
@@ -222,13 +240,15 @@ struct FootTriggers {
 bool ApplyTransitions(const SimSetup& setup, int leg, const FootTriggers& due, double t,
                       const Vec2& pos, const Vec2& vel, RunContext* ctx, SimResult* result) {
   FootContactState& foot = ctx->feet[leg];
+  const ContactMode before = foot.mode;  // a foot leaving an edge goes to the air: recorded too
   if (due.span && !UpdateFootSurface(setup.terrain, pos, &foot)) {
     result->outcome = Outcome::kTripped;
+    const bool step = setup.terrain.SurfaceAt(pos.x()) == kGround;  // else an obstacle's side
+    const char* what = step ? "a step's face" : "an obstacle's side";
     result->reason =
-        Describe(leg == 0 ? "foot 1 hit an obstacle's side" : "foot 2 hit an obstacle's side", t);
+        Describe((std::string(leg == 0 ? "foot 1 hit " : "foot 2 hit ") + what).c_str(), t);
     return false;
   }
-  const ContactMode before = foot.mode;
   if (due.touch) OnTouchEvent(setup.terrain, pos, vel, &foot);
   if (due.friction) OnFrictionEvent(setup.contact, setup.terrain, pos, vel, &foot);
   if (foot.mode != before) {
@@ -278,6 +298,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
   ctx.num_obstacles = static_cast<int>(terrain.obstacles.size());
   ctx.segment_guards = opt.contact && terrain.ground.num_segments() > 1;
   ctx.pushes.reserve(setup.pushes.size());
+  PushSchedule schedule(&setup.pushes);
   if (opt.contact) {
     for (int leg = 0; leg < kNumLegs; ++leg) {
       ctx.feet[leg] = InitialFootState(terrain, FootPosition(model, q0, leg));
@@ -386,19 +407,21 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
     // New torques are a jump in the right-hand side: restart the integrator there (see
     // SimOptions::restart_at_samples). Unchanged torques (e.g. a passive robot) need nothing.
     // Pushes held over this period (capacity reserved: no allocation here).
+    // Event-timed pushes wait for their event, seen at the samples.
+    schedule.Update(s.t, s.q[kX], obs.foot_contact);
     bool push_changed = false;
     size_t active = 0;
-    for (const TrunkPush& p : setup.pushes) {
-      if (s.t >= p.start - 1e-12 && s.t < p.start + p.duration - 1e-12) {
-        push_changed |= active >= ctx.pushes.size() || ctx.pushes[active] != &p;
+    for (size_t i = 0; i < setup.pushes.size(); ++i) {
+      if (schedule.Active(i, s.t)) {
+        push_changed |= active >= ctx.pushes.size() || ctx.pushes[active] != &setup.pushes[i];
         ++active;
       }
     }
     push_changed |= active != ctx.pushes.size();
     if (push_changed) {
       ctx.pushes.clear();
-      for (const TrunkPush& p : setup.pushes) {
-        if (s.t >= p.start - 1e-12 && s.t < p.start + p.duration - 1e-12) ctx.pushes.push_back(&p);
+      for (size_t i = 0; i < setup.pushes.size(); ++i) {
+        if (schedule.Active(i, s.t)) ctx.pushes.push_back(&setup.pushes[i]);
       }
     }
     if (opt.restart_at_samples && k > 0 && (s.tau != ctx.tau || push_changed)) {
@@ -459,6 +482,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
     }
   }
   result.integrator = integrator->Stats();
+  result.push_starts = schedule.starts();
   return result;
 }
 

@@ -5,6 +5,7 @@
 #define RABBIT_SIM_SIMULATOR_H_
 
 #include <array>
+#include <cmath>
 #include <limits>
 #include <string>
 #include <vector>
@@ -18,7 +19,8 @@
 
 namespace rabbit {
 
-// When a run counts as a fall (docs/design.md, "Gait measurement and falls"). Any knee at or below the ground also counts.
+// When a run counts as a fall (docs/design.md, "Gait measurement and falls"). Any knee at or below
+// the ground also counts.
 struct FallCriteria {
   double min_hip_height = 0.6;        // m, above the ground under the hip
   double max_trunk_pitch = 0.785398;  // rad (45 deg)
@@ -101,6 +103,8 @@ struct SimResult {
   // Mechanical work of the actuators, sum over joints and periods of max(0, tau_j qd_j) dt with
   // the torque and rate at each sample (J): the energy term of the cost of transport.
   double positive_work = 0.0;
+  // When each push of the set-up started (s; nan: its event never came).
+  std::vector<double> push_starts;
   double saturation_time(int joint, double period) const {
     return static_cast<double>(saturated_periods[joint]) * period;
   }
@@ -109,11 +113,20 @@ struct SimResult {
 // An external force on the trunk (a push), in the simulation frame, at the point `height` above the
 // hip on the trunk's axis, acting on the control samples t_k with start <= t_k < start + duration
 // (held over each period like the torques, so its timing is quantised to the control period).
+// Instead of a start time, a push may wait for an event (rabbit/sim/push_schedule.h): the
+// after_touchdown-th touchdown (1-based, counted as the gait meter counts them: a foot landing
+// after at least 0.05 s in the air), then `phase` times the step's expected duration (the time
+// between that touchdown and the one before it); or the hip passing at_hip_x; or both (the
+// touchdowns counted from the hip passing at_hip_x).
 struct TrunkPush {
-  double start = 0.0;         // s
+  double start = 0.0;         // s (event-timed pushes: 0)
   double duration = 0.1;      // s
   Vec2 force = Vec2::Zero();  // N
   double height = 0.2;        // m above the hip, along the trunk
+  int after_touchdown = 0;    // >= 1: timed from that touchdown (0: not)
+  double phase = 0.0;         // [0, 1]: the fraction of the step's expected duration
+  double at_hip_x = std::numeric_limits<double>::quiet_NaN();  // m (nan: not)
+  bool event_timed() const { return after_touchdown > 0 || !std::isnan(at_hip_x); }
   bool IsValid(std::string* error) const;
 };
 
