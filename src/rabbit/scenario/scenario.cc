@@ -16,6 +16,7 @@
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/learn/fll.h"
 #include "rabbit/scenario/params.h"
+#include "rabbit/scenario/slope_keys.h"
 
 namespace rabbit {
 namespace {
@@ -685,6 +686,7 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
   w.lift_feedback = t->Bool("lift_feedback", w.lift_feedback);
   w.lift_keeps_rules = t->Bool("lift_keeps_rules", w.lift_keeps_rules);
   ReadRecovery(t->Table("recovery"), &w.recovery);
+  ReadSlopeKeys(t->Table("slope"), &w.slope);
   w.thigh_length = s->model.thigh_length;
   w.shin_length = s->model.shin_length;
   {
