@@ -141,6 +141,7 @@ bool WalkerParams::IsValid(std::string* error) const {
     return false;
   }
   if (!recovery.IsValid(error)) return false;
+  if (!slope.IsValid(error)) return false;
   if (log_every < 0) {
     *error = "log_every must be >= 0";
     return false;
@@ -167,6 +168,7 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
       velocity_(std::move(velocity)),
       warmup_(params.warmup, stance_leg),
       recovery_(params.recovery),
+      slope_(params.slope),
       warming_up_(params.warmup_steps > 0),
       stance_(stance_leg),
       q0_d_(params.q0_d_initial),
@@ -276,6 +278,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   // (clamping its V_M at 0 instead reads it as a standstill, and the velocity control then leans
   // the trunk forward by several degrees per backward step, into a fall).
   const bool measured = step.t_step > 0.0 && step.l_step > 0.0;
+  slope_.OnTouchdown(obs.foot_pos[step.leg], obs.foot_pos[1 - step.leg]);
   if (measured) {
     measured_.push_back(
         std::max(0.0, step.v_m + (p_.v_m_noise > 0.0 ? p_.v_m_noise * Gaussian() : 0.0)));
@@ -288,6 +291,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     const double error = v_d - v_m_;
     double dq0 = p_.k_p * error;
     if (have_error_) dq0 += p_.k_v * (error - last_error_) / step.t_step;
+    dq0 += slope_.OvershootCorrection(v_m_, v_d);
     q0_d_ = std::clamp(q0_d_ + dq0, p_.q0_d_min, p_.q0_d_max);
     last_error_ = error;
     have_error_ = true;
@@ -299,7 +303,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     d_noise = p_.d_obs_noise * Gaussian();
     d_obs = std::clamp(d_obs + d_noise, 0.0, p_.d_obs_max);
   }
-  SetContext(v_m_ + p_.fis_v_lead * (v_d - v_m_), d_obs);
+  SetContext(v_m_ + p_.fis_v_lead * (v_d - v_m_) + slope_.FisVelocityOffset(), d_obs);
   StepPlan plan;
   if (p_.planner.enabled && obs.terrain != nullptr) {
     // The planner sees beyond d_obs_max (its horizon), with the same perception noise.
@@ -480,8 +484,9 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   const double e = q[st_hip];
   Eigen::Vector4d ref;
   if (p_.thigh_frame) {
-    ref = pattern_->QueryThigh(e - q[kQ0]);
-    ref[0] += q[kQ0];  // swing thigh's absolute angle -> the hip joint's angle
+    const double frame = slope_.FrameAngle();  // 0 unless the slope adaptation tilts it
+    ref = pattern_->QueryThigh(e - q[kQ0] - frame);
+    ref[0] += q[kQ0] + frame;  // swing thigh's absolute angle -> the hip joint's angle
     ref[2] += qd[kQ0];
   } else {
     ref = pattern_->Query(e);
@@ -516,7 +521,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     }
   }
   tau[2 * st + 1] = -knee_kp * q[st_hip + 1] - knee_kd * qd[st_hip + 1];
-  const double q0_d = q0_d_ + recovery_.TrunkOffset(obs.t);
+  const double q0_d = q0_d_ + recovery_.TrunkOffset(obs.t) + slope_.TrunkOffset();
   tau[2 * st] = p_.trunk_kp * (q0_d - q[kQ0]) - p_.trunk_kd * qd[kQ0];
   if (!tau.allFinite()) tau.setZero();  // NaN measurements: no torque (the run reports the fall)
   if (p_.log_every > 0 && periods_ % p_.log_every == 0) {

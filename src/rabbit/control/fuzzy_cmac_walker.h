@@ -31,6 +31,7 @@
 #include "rabbit/control/pragmatic_rules.h"
 #include "rabbit/control/step_planner.h"
 #include "rabbit/control/push_recovery.h"
+#include "rabbit/control/slope_adaptation.h"
 #include "rabbit/learn/fuzzy_cmac.h"
 #include "rabbit/learn/swing_pattern.h"
 #include "rabbit/sim/controller.h"
@@ -126,6 +127,8 @@ struct WalkerParams {
   PragmaticParams warmup;
   // Push recovery (push_recovery.h; keys of [controller.recovery]).
   RecoveryParams recovery;
+  // Slope adaptation (slope_adaptation.h; keys of [controller.slope]).
+  SlopeParams slope;
   // Keep the tracking log (references and measurements) every n-th control period (0: none).
   int log_every = 1;
   bool IsValid(std::string* error) const;
@@ -170,6 +173,7 @@ class FuzzyCmacWalker final : public Controller {
   const std::vector<WalkerTrack>& tracking() const { return tracking_; }
   const GaitMeter& meter() const { return meter_; }
   const SwingPattern& gait_pattern() const { return *pattern_; }
+  const SlopeAdaptation& slope() const { return slope_; }
   double q0_d() const { return q0_d_; }
   bool warming_up() const { return warming_up_; }
 
@@ -197,6 +201,7 @@ class FuzzyCmacWalker final : public Controller {
   GaitMeter meter_;
   PragmaticController warmup_;
   PushRecovery recovery_;
+  SlopeAdaptation slope_;
   bool warming_up_;
   int stance_;
   double q0_d_;

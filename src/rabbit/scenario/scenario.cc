@@ -19,6 +19,7 @@
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/learn/fll.h"
 #include "rabbit/scenario/params.h"
+#include "rabbit/scenario/slope_keys.h"
 
 namespace rabbit {
 namespace {
@@ -670,6 +671,7 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   w.lift_feedback = t->Bool("lift_feedback", w.lift_feedback);
   w.lift_keeps_rules = t->Bool("lift_keeps_rules", w.lift_keeps_rules);
   ReadRecovery(t->Table("recovery"), &w.recovery);
+  ReadSlopeKeys(t->Table("slope"), &w.slope);
   w.thigh_length = model.thigh_length;
   w.shin_length = model.shin_length;
   {

@@ -1,0 +1,73 @@
+#include "rabbit/control/slope_adaptation.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace rabbit {
+
+bool SlopeParams::IsValid(std::string* error) const {
+  const std::pair<const char*, double> bounded[] = {{"slope_max", slope_max},
+                                                    {"min_baseline", min_baseline},
+                                                    {"trunk_max", trunk_max},
+                                                    {"overshoot_margin", overshoot_margin},
+                                                    {"overshoot_gain", overshoot_gain}};
+  for (const auto& [name, value] : bounded) {
+    if (!(std::isfinite(value) && value >= 0.0 && value <= 10.0)) {
+      *error = std::string("slope.") + name + " must be in [0, 10]";
+      return false;
+    }
+  }
+  if (!(std::isfinite(filter) && filter > 0.0 && filter <= 1.0)) {
+    *error = "slope.filter must be in (0, 1]";
+    return false;
+  }
+  if (slope_max > 0.5 || trunk_max > 0.5) {
+    *error = "slope.slope_max and slope.trunk_max must be <= 0.5 rad";
+    return false;
+  }
+  const std::pair<const char*, double> gains[] = {
+      {"trunk_gain", trunk_gain}, {"frame_gain", frame_gain}, {"fis_gain", fis_gain}};
+  for (const auto& [name, value] : gains) {
+    if (!(std::isfinite(value) && std::abs(value) <= 10.0)) {
+      *error = std::string("slope.") + name + " must be in [-10, 10]";
+      return false;
+    }
+  }
+  return true;
+}
+
+double MeasuredGrade(const Vec2& landing, const Vec2& other, double min_baseline) {
+  const double dx = landing.x() - other.x();
+  if (!(std::abs(dx) >= min_baseline)) return std::nan("");
+  // atan of the drop per metre toward +x, whichever foot is ahead.
+  return std::atan((other.y() - landing.y()) / dx);
+}
+
+SlopeAdaptation::SlopeAdaptation(const SlopeParams& params) : p_(params) {}
+
+void SlopeAdaptation::OnTouchdown(const Vec2& landing, const Vec2& other) {
+  if (!p_.enabled) return;
+  const double grade = MeasuredGrade(landing, other, p_.min_baseline);
+  if (!std::isfinite(grade)) return;
+  slope_ += p_.filter * (std::clamp(grade, -p_.slope_max, p_.slope_max) - slope_);
+}
+
+double SlopeAdaptation::TrunkOffset() const {
+  if (!p_.enabled) return 0.0;
+  return std::clamp(-p_.trunk_gain * slope_, -p_.trunk_max, p_.trunk_max);
+}
+
+double SlopeAdaptation::FrameAngle() const { return p_.enabled ? -p_.frame_gain * slope_ : 0.0; }
+
+double SlopeAdaptation::FisVelocityOffset() const {
+  return p_.enabled ? p_.fis_gain * slope_ : 0.0;
+}
+
+double SlopeAdaptation::OvershootCorrection(double v_m, double v_d) const {
+  if (!p_.enabled) return 0.0;
+  const double excess = v_m - v_d - p_.overshoot_margin;
+  return excess > 0.0 ? -p_.overshoot_gain * excess : 0.0;
+}
+
+}  // namespace rabbit
