@@ -141,6 +141,7 @@ bool WalkerParams::IsValid(std::string* error) const {
     return false;
   }
   if (!recovery.IsValid(error)) return false;
+  if (!velocity_control.IsValid(error)) return false;
   if (log_every < 0) {
     *error = "log_every must be >= 0";
     return false;
@@ -171,6 +172,10 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
       stance_(stance_leg),
       q0_d_(params.q0_d_initial),
       v_m_(params.v_m_initial),
+      speed_(params.velocity_control, params.k_p, params.k_v, params.q0_d_min, params.q0_d_max,
+             params.q0_d_initial,
+             PitchMap(params.velocity_control.pitch_map.empty() ? params.gait_pitches
+                                                                 : params.velocity_control.pitch_map)),
       rng_(CmacMix64(params.seed)) {
   std::string error;
   if (!p_.IsValid(&error)) throw std::invalid_argument("walker: " + error);
@@ -284,14 +289,9 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     for (size_t i = measured_.size() - n; i < measured_.size(); ++i) sum += measured_[i];
     v_m_ = sum / static_cast<double>(n);
   }
-  if (measured && !warming_up_) {
-    const double error = v_d - v_m_;
-    double dq0 = p_.k_p * error;
-    if (have_error_) dq0 += p_.k_v * (error - last_error_) / step.t_step;
-    q0_d_ = std::clamp(q0_d_ + dq0, p_.q0_d_min, p_.q0_d_max);
-    last_error_ = error;
-    have_error_ = true;
-  }
+  // The command the walker acts on (V_d itself unless velocity_control is enabled).
+  const double v_c = speed_.Command(v_d);
+  if (measured && !warming_up_) q0_d_ = speed_.Update(v_m_, step.t_step);
   const double front = obs.foot_pos[step.leg].x();
   double d_obs = ObstacleAhead(obs, front);
   double d_noise = 0.0;
@@ -299,7 +299,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     d_noise = p_.d_obs_noise * Gaussian();
     d_obs = std::clamp(d_obs + d_noise, 0.0, p_.d_obs_max);
   }
-  SetContext(v_m_ + p_.fis_v_lead * (v_d - v_m_), d_obs);
+  SetContext(v_m_ + p_.fis_v_lead * (v_c - v_m_), d_obs);
   StepPlan plan;
   if (p_.planner.enabled && obs.terrain != nullptr) {
     // The planner sees beyond d_obs_max (its horizon), with the same perception noise.

@@ -31,6 +31,7 @@
 #include "rabbit/control/pragmatic_rules.h"
 #include "rabbit/control/step_planner.h"
 #include "rabbit/control/push_recovery.h"
+#include "rabbit/control/velocity_control.h"
 #include "rabbit/learn/fuzzy_cmac.h"
 #include "rabbit/learn/swing_pattern.h"
 #include "rabbit/sim/controller.h"
@@ -126,6 +127,11 @@ struct WalkerParams {
   PragmaticParams warmup;
   // Push recovery (push_recovery.h; keys of [controller.recovery]).
   RecoveryParams recovery;
+  // Velocity control beyond the chapter's law (velocity_control.h; keys of
+  // [controller.velocity_control]). gait_pitches: the reference gaits' (measured V_M, q0_d) for
+  // its pitch map (set by the scenario runner from the gait database, not a key).
+  VelocityControlParams velocity_control;
+  std::vector<std::pair<double, double>> gait_pitches;
   // Keep the tracking log (references and measurements) every n-th control period (0: none).
   int log_every = 1;
   bool IsValid(std::string* error) const;
@@ -202,8 +208,7 @@ class FuzzyCmacWalker final : public Controller {
   double q0_d_;
   double v_m_;                    // V_M in use (noisy)
   std::vector<double> measured_;  // measured per-step V_M (noisy), for the running mean
-  double last_error_ = 0.0;       // V_d - V_M at the previous step
-  bool have_error_ = false;
+  VelocityControl speed_;         // the q0_d update (eqs. 19-20, velocity_control.h)
   std::uint64_t rng_;
   long periods_ = 0;
   bool lift_armed_ = false;                               // set at each touchdown

@@ -569,6 +569,28 @@ void ReadRecovery(TomlReader r, RecoveryParams* p) {
   if (!p->IsValid(&error)) r.Fail("", error);
 }
 
+// [controller.velocity_control]: the walker's speed transitions (velocity_control.h).
+void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
+  p->enabled = r.Bool("enabled", p->enabled);
+  p->v_d_rate = r.Double("v_d_rate", p->v_d_rate);
+  if (!(p->v_d_rate >= 0.0 && p->v_d_rate <= 3.0)) r.Fail("v_d_rate", "must be in [0, 3] m/s");
+  p->feedforward_gain = r.Double("feedforward_gain", p->feedforward_gain);
+  if (!(p->feedforward_gain >= 0.0 && p->feedforward_gain <= 2.0)) {
+    r.Fail("feedforward_gain", "must be in [0, 2]");
+  }
+  p->start_at_map = r.Bool("start_at_map", p->start_at_map);
+  if (r.Has("pitch_map_deg")) {
+    p->pitch_map.clear();
+    for (const std::vector<double>& row : r.DoubleRows("pitch_map_deg", 2)) {
+      if (!(row[0] >= 0.0 && row[0] < 3.0 && std::abs(row[1]) < 45.0)) {
+        r.Fail("pitch_map_deg", "each point [V_m_s, q0_d_deg] needs V in [0, 3) and |q0_d| < 45");
+      }
+      p->pitch_map.push_back({row[0], row[1] * kDeg});
+    }
+  }
+  r.Finish();
+}
+
 // type = "fuzzy_cmac": the chapter's walker (see FuzzyCmacWalker). Reads the gait database to
 // choose the start gait; the walk starts from its documented walking start.
 // The gait database (`database`, default the shipped one beside the scenario folder) gives the
@@ -685,6 +707,7 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
   w.lift_feedback = t->Bool("lift_feedback", w.lift_feedback);
   w.lift_keeps_rules = t->Bool("lift_keeps_rules", w.lift_keeps_rules);
   ReadRecovery(t->Table("recovery"), &w.recovery);
+  ReadVelocityControl(t->Table("velocity_control"), &w.velocity_control);
   w.thigh_length = s->model.thigh_length;
   w.shin_length = s->model.shin_length;
   {
