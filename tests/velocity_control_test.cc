@@ -187,5 +187,21 @@ TEST_F(VelocityControlKeysTest, ReadAndValidated) {
   ExpectError("enabld = true\n", "scenario[1].controller.velocity_control.enabld");
 }
 
+// The training suite loads, with the velocity control enabled and its walker's own pitch map.
+TEST(VelocityControlTrainingSuiteTest, Loads) {
+  const Suite suite = LoadSuite(std::string(RABBIT_SOURCE_DIR) + "/scenarios/train/speed.toml");
+  ASSERT_FALSE(suite.scenarios.empty());
+  for (const Scenario& s : suite.scenarios) {
+    const VelocityControlParams& v = s.walker.velocity_control;
+    EXPECT_TRUE(v.enabled) << s.name;
+    ASSERT_GE(v.pitch_map.size(), 2u) << s.name;
+    // Made non-decreasing by the map, the points as written already are.
+    for (size_t i = 1; i < v.pitch_map.size(); ++i) {
+      EXPECT_LT(v.pitch_map[i - 1].first, v.pitch_map[i].first);
+      EXPECT_LE(v.pitch_map[i - 1].second, v.pitch_map[i].second);
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rabbit

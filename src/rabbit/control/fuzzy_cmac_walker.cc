@@ -172,10 +172,11 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
       stance_(stance_leg),
       q0_d_(params.q0_d_initial),
       v_m_(params.v_m_initial),
-      speed_(params.velocity_control, params.k_p, params.k_v, params.q0_d_min, params.q0_d_max,
-             params.q0_d_initial,
-             PitchMap(params.velocity_control.pitch_map.empty() ? params.gait_pitches
-                                                                 : params.velocity_control.pitch_map)),
+      speed_(
+          params.velocity_control, params.k_p, params.k_v, params.q0_d_min, params.q0_d_max,
+          params.q0_d_initial,
+          PitchMap(params.velocity_control.pitch_map.empty() ? params.gait_pitches
+                                                             : params.velocity_control.pitch_map)),
       rng_(CmacMix64(params.seed)) {
   std::string error;
   if (!p_.IsValid(&error)) throw std::invalid_argument("walker: " + error);

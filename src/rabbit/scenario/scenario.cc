@@ -579,14 +579,14 @@ void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
     r.Fail("feedforward_gain", "must be in [0, 2]");
   }
   p->start_at_map = r.Bool("start_at_map", p->start_at_map);
-  if (r.Has("pitch_map_deg")) {
-    p->pitch_map.clear();
-    for (const std::vector<double>& row : r.DoubleRows("pitch_map_deg", 2)) {
-      if (!(row[0] >= 0.0 && row[0] < 3.0 && std::abs(row[1]) < 45.0)) {
-        r.Fail("pitch_map_deg", "each point [V_m_s, q0_d_deg] needs V in [0, 3) and |q0_d| < 45");
-      }
-      p->pitch_map.push_back({row[0], row[1] * kDeg});
+  // Absent or empty: the reference gaits' map.
+  const std::vector<std::vector<double>> map = r.DoubleRows("pitch_map_deg", 2);
+  if (!map.empty()) p->pitch_map.clear();
+  for (const std::vector<double>& row : map) {
+    if (!(row[0] >= 0.0 && row[0] < 3.0 && std::abs(row[1]) < 45.0)) {
+      r.Fail("pitch_map_deg", "each point [V_m_s, q0_d_deg] needs V in [0, 3) and |q0_d| < 45");
     }
+    p->pitch_map.push_back({row[0], row[1] * kDeg});
   }
   r.Finish();
 }
