@@ -142,6 +142,7 @@ bool WalkerParams::IsValid(std::string* error) const {
   }
   if (!recovery.IsValid(error)) return false;
   if (!slope.IsValid(error)) return false;
+  if (!velocity_control.IsValid(error)) return false;
   if (log_every < 0) {
     *error = "log_every must be >= 0";
     return false;
@@ -173,6 +174,11 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
       stance_(stance_leg),
       q0_d_(params.q0_d_initial),
       v_m_(params.v_m_initial),
+      speed_(
+          params.velocity_control, params.k_p, params.k_v, params.q0_d_min, params.q0_d_max,
+          params.q0_d_initial,
+          PitchMap(params.velocity_control.pitch_map.empty() ? params.gait_pitches
+                                                             : params.velocity_control.pitch_map)),
       rng_(CmacMix64(params.seed)) {
   std::string error;
   if (!p_.IsValid(&error)) throw std::invalid_argument("walker: " + error);
@@ -211,8 +217,8 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
   }
 }
 
-StepPlan FuzzyCmacWalker::PlanNextStep(const Observation& obs, const StepRecord& step,
-                                       double front, double d_obs) {
+StepPlan FuzzyCmacWalker::PlanNextStep(const Observation& obs, const StepRecord& step, double front,
+                                       double d_obs) {
   const StepPlannerParams& pp = p_.planner;
   // A step that landed behind (a backward step after a push) was no attempt at the plan: it
   // does not feed the bias.
@@ -287,14 +293,10 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     for (size_t i = measured_.size() - n; i < measured_.size(); ++i) sum += measured_[i];
     v_m_ = sum / static_cast<double>(n);
   }
+  // The command the walker acts on (V_d itself unless velocity_control is enabled).
+  const double v_c = speed_.Command(v_d);
   if (measured && !warming_up_) {
-    const double error = v_d - v_m_;
-    double dq0 = p_.k_p * error;
-    if (have_error_) dq0 += p_.k_v * (error - last_error_) / step.t_step;
-    dq0 += slope_.OvershootCorrection(v_m_, v_d);
-    q0_d_ = std::clamp(q0_d_ + dq0, p_.q0_d_min, p_.q0_d_max);
-    last_error_ = error;
-    have_error_ = true;
+    q0_d_ = speed_.Update(v_m_, step.t_step, slope_.OvershootCorrection(v_m_, v_c));
   }
   const double front = obs.foot_pos[step.leg].x();
   double d_obs = ObstacleAhead(obs, front);
@@ -303,7 +305,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     d_noise = p_.d_obs_noise * Gaussian();
     d_obs = std::clamp(d_obs + d_noise, 0.0, p_.d_obs_max);
   }
-  SetContext(v_m_ + p_.fis_v_lead * (v_d - v_m_) + slope_.FisVelocityOffset(), d_obs);
+  SetContext(v_m_ + p_.fis_v_lead * (v_c - v_m_) + slope_.FisVelocityOffset(), d_obs);
   StepPlan plan;
   if (p_.planner.enabled && obs.terrain != nullptr) {
     // The planner sees beyond d_obs_max (its horizon), with the same perception noise.

@@ -13,7 +13,8 @@
 // Perception: V_M is the gait meter's last complete step (eq. 1; signed: a step that lands behind
 // the stance foot, a recovery step, leaves V_M and q0_d as they were, see OnTouchdown); d_obs the
 // horizontal distance from the front (new stance) foot to the near edge of the next obstacle
-// ahead, saturated at d_obs_max. Both may carry Gaussian noise from a seeded generator (deterministic for a seed).
+// ahead, saturated at d_obs_max. Both may carry Gaussian noise from a seeded generator
+// (deterministic for a seed).
 //
 // Support exchange: when the swing foot lands (after at least the gait meter's min_air_time in the
 // air) ahead of the stance foot, legs swap roles. A swing foot that scuffs the ground behind the
@@ -29,9 +30,10 @@
 
 #include "rabbit/control/gait_meter.h"
 #include "rabbit/control/pragmatic_rules.h"
-#include "rabbit/control/step_planner.h"
 #include "rabbit/control/push_recovery.h"
 #include "rabbit/control/slope_adaptation.h"
+#include "rabbit/control/step_planner.h"
+#include "rabbit/control/velocity_control.h"
 #include "rabbit/learn/fuzzy_cmac.h"
 #include "rabbit/learn/swing_pattern.h"
 #include "rabbit/sim/controller.h"
@@ -129,6 +131,11 @@ struct WalkerParams {
   RecoveryParams recovery;
   // Slope adaptation (slope_adaptation.h; keys of [controller.slope]).
   SlopeParams slope;
+  // Velocity control beyond the chapter's law (velocity_control.h; keys of
+  // [controller.velocity_control]). gait_pitches: the reference gaits' (measured V_M, q0_d) for
+  // its pitch map (set by the scenario runner from the gait database, not a key).
+  VelocityControlParams velocity_control;
+  std::vector<std::pair<double, double>> gait_pitches;
   // Keep the tracking log (references and measurements) every n-th control period (0: none).
   int log_every = 1;
   bool IsValid(std::string* error) const;
@@ -136,14 +143,14 @@ struct WalkerParams {
 
 // One step as the walker saw it, at the touchdown that ended it.
 struct WalkerStep {
-  StepRecord step;                 // gait meter's record (index, leg, t, L_step, t_step, V_M)
-  double v_d = 0.0;                // desired velocity at the touchdown, m/s
-  double v_m_used = 0.0;           // V_M given to the FIS and the velocity control (with noise)
-  double d_obs = 0.0;              // perceived d_obs for the next step (with noise), m
-  int planned_steps = -1;          // planner: approach steps before the step over (-1: not planning)
-  double planned_l_step = 0.0;     // planner: target of the next step, m
-  double q0_d = 0.0;               // desired trunk pitch for the next step, rad
-  std::vector<double> weights;     // per reference gait, summing to 1 (empty: the pattern has none)
+  StepRecord step;              // gait meter's record (index, leg, t, L_step, t_step, V_M)
+  double v_d = 0.0;             // desired velocity at the touchdown, m/s
+  double v_m_used = 0.0;        // V_M given to the FIS and the velocity control (with noise)
+  double d_obs = 0.0;           // perceived d_obs for the next step (with noise), m
+  int planned_steps = -1;       // planner: approach steps before the step over (-1: not planning)
+  double planned_l_step = 0.0;  // planner: target of the next step, m
+  double q0_d = 0.0;            // desired trunk pitch for the next step, rad
+  std::vector<double> weights;  // per reference gait, summing to 1 (empty: the pattern has none)
   std::vector<double> activation;  // per rule (normalised; empty: the pattern has no rules)
   bool warmup = false;             // walked by the warm-up's pragmatic rules (weights not used)
 };
@@ -182,8 +189,7 @@ class FuzzyCmacWalker final : public Controller {
   void SetContext(double v_m, double d_obs);
   // The step planner's hook at a touchdown (front foot at x = front, perceived d_obs): sets the
   // gait weights for the coming step when an obstacle is within the horizon.
-  StepPlan PlanNextStep(const Observation& obs, const StepRecord& step, double front,
-                        double d_obs);
+  StepPlan PlanNextStep(const Observation& obs, const StepRecord& step, double front, double d_obs);
   double Gaussian();
   // d_obs seen from x (no terrain: no obstacle), before noise.
   double ObstacleAhead(const Observation& obs, double x) const;
@@ -207,8 +213,7 @@ class FuzzyCmacWalker final : public Controller {
   double q0_d_;
   double v_m_;                    // V_M in use (noisy)
   std::vector<double> measured_;  // measured per-step V_M (noisy), for the running mean
-  double last_error_ = 0.0;       // V_d - V_M at the previous step
-  bool have_error_ = false;
+  VelocityControl speed_;         // the q0_d update (eqs. 19-20, velocity_control.h)
   std::uint64_t rng_;
   long periods_ = 0;
   bool lift_armed_ = false;                               // set at each touchdown
@@ -220,11 +225,11 @@ class FuzzyCmacWalker final : public Controller {
   };
   double swing_start_ = 0.0;
   std::vector<RuleState> rule_states_;
-  TsFis step_fis_;                // planner: the step-length fuzzy system (when enabled)
+  TsFis step_fis_;                     // planner: the step-length fuzzy system (when enabled)
   std::vector<size_t> planner_gaits_;  // planner: the gaits step_fis_ blends, in gait order
-  double planner_bias_ = 0.0;     // planner: realised minus asked step length, fed back (m)
-  double planner_target_ = -1.0;  // planner: the last planned step's target (-1: none)
-  int recovery_left_ = 0;         // planner: nominal steps still to take after a step over
+  double planner_bias_ = 0.0;          // planner: realised minus asked step length, fed back (m)
+  double planner_target_ = -1.0;       // planner: the last planned step's target (-1: none)
+  int recovery_left_ = 0;              // planner: nominal steps still to take after a step over
   std::vector<WalkerStep> steps_;
   std::vector<WalkerTrack> tracking_;
 };

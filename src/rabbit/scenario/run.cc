@@ -255,6 +255,10 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     for (const GaitRecord& g : library->gaits) params.gait_rules.push_back(g.spec.rules);
     params.gait_l_steps.clear();
     for (const GaitRecord& g : library->gaits) params.gait_l_steps.push_back(g.measured.l_step);
+    params.gait_pitches.clear();
+    for (const GaitRecord& g : library->gaits) {
+      params.gait_pitches.push_back({g.measured.v_m, g.spec.rules.q0_d});
+    }
     if (params.planner.enabled && variant != "multi_cmac") {
       // The step planner blends the gaits by their step lengths: name the database they came from.
       try {

@@ -638,6 +638,28 @@ void ReadRecovery(TomlReader r, RecoveryParams* p) {
   if (!p->IsValid(&error)) r.Fail("", error);
 }
 
+// [controller.velocity_control]: the walker's speed transitions (velocity_control.h).
+void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
+  p->enabled = r.Bool("enabled", p->enabled);
+  p->v_d_rate = r.Double("v_d_rate", p->v_d_rate);
+  if (!(p->v_d_rate >= 0.0 && p->v_d_rate <= 3.0)) r.Fail("v_d_rate", "must be in [0, 3] m/s");
+  p->feedforward_gain = r.Double("feedforward_gain", p->feedforward_gain);
+  if (!(p->feedforward_gain >= 0.0 && p->feedforward_gain <= 2.0)) {
+    r.Fail("feedforward_gain", "must be in [0, 2]");
+  }
+  p->start_at_map = r.Bool("start_at_map", p->start_at_map);
+  // Absent or empty: the reference gaits' map.
+  const std::vector<std::vector<double>> map = r.DoubleRows("pitch_map_deg", 2);
+  if (!map.empty()) p->pitch_map.clear();
+  for (const std::vector<double>& row : map) {
+    if (!(row[0] >= 0.0 && row[0] < 3.0 && std::abs(row[1]) < 45.0)) {
+      r.Fail("pitch_map_deg", "each point [V_m_s, q0_d_deg] needs V in [0, 3) and |q0_d| < 45");
+    }
+    p->pitch_map.push_back({row[0], row[1] * kDeg});
+  }
+  r.Finish();
+}
+
 // The walker's own keys of [controller], read over *w (a preset's settings, with the start gait's
 // warm-up rules, trunk pitch and V_M).
 void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walker) {
@@ -672,6 +694,7 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   w.lift_keeps_rules = t->Bool("lift_keeps_rules", w.lift_keeps_rules);
   ReadRecovery(t->Table("recovery"), &w.recovery);
   ReadSlopeKeys(t->Table("slope"), &w.slope);
+  ReadVelocityControl(t->Table("velocity_control"), &w.velocity_control);
   w.thigh_length = model.thigh_length;
   w.shin_length = model.shin_length;
   {

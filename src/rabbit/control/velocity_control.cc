@@ -1,0 +1,125 @@
+#include "rabbit/control/velocity_control.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+namespace rabbit {
+
+bool VelocityControlParams::IsValid(std::string* error) const {
+  if (!(std::isfinite(v_d_rate) && v_d_rate >= 0.0 && v_d_rate <= 3.0)) {
+    *error = "velocity_control.v_d_rate must be in [0, 3] m/s per step (0: no limit)";
+    return false;
+  }
+  for (const auto& [v, q] : pitch_map) {
+    if (!(std::isfinite(v) && std::isfinite(q) && v >= 0.0 && v < 3.0 && std::abs(q) < M_PI / 4)) {
+      *error =
+          "velocity_control.pitch_map_deg: each point needs V in [0, 3) m/s and |q0_d| < 45 deg";
+      return false;
+    }
+  }
+  if (!(std::isfinite(feedforward_gain) && feedforward_gain >= 0.0 && feedforward_gain <= 2.0)) {
+    *error = "velocity_control.feedforward_gain must be in [0, 2]";
+    return false;
+  }
+  return true;
+}
+
+std::vector<double> NonDecreasingFit(const std::vector<double>& y) {
+  // Blocks of (mean, count), merged while a block's mean is below the one before.
+  std::vector<std::pair<double, int>> blocks;
+  for (double v : y) {
+    blocks.push_back({v, 1});
+    while (blocks.size() > 1 && blocks[blocks.size() - 2].first > blocks.back().first) {
+      const auto last = blocks.back();
+      blocks.pop_back();
+      auto& prev = blocks.back();
+      prev.first = (prev.first * prev.second + last.first * last.second) /
+                   static_cast<double>(prev.second + last.second);
+      prev.second += last.second;
+    }
+  }
+  std::vector<double> fit;
+  for (const auto& [mean, count] : blocks) fit.insert(fit.end(), count, mean);
+  return fit;
+}
+
+PitchMap::PitchMap(std::vector<std::pair<double, double>> points) : points_(std::move(points)) {
+  for (const auto& [v, q] : points_) {
+    if (!std::isfinite(v) || !std::isfinite(q)) {
+      throw std::invalid_argument("pitch map: a gait's speed or trunk pitch is not finite");
+    }
+  }
+  std::sort(points_.begin(), points_.end());
+  std::vector<double> y;
+  for (const auto& point : points_) y.push_back(point.second);
+  y = NonDecreasingFit(y);
+  for (size_t i = 0; i < points_.size(); ++i) points_[i].second = y[i];
+}
+
+double PitchMap::At(double v) const {
+  if (points_.empty()) return 0.0;
+  if (v <= points_.front().first) return points_.front().second;
+  for (size_t i = 1; i < points_.size(); ++i) {
+    const auto& [v1, q1] = points_[i];
+    if (v < v1) {
+      const auto& [v0, q0] = points_[i - 1];
+      return v1 > v0 ? q0 + (q1 - q0) * (v - v0) / (v1 - v0) : q1;
+    }
+  }
+  return points_.back().second;
+}
+
+VelocityControl::VelocityControl(const VelocityControlParams& params, double k_p, double k_v,
+                                 double q0_d_min, double q0_d_max, double q0_d_initial,
+                                 PitchMap map)
+    : p_(params),
+      k_p_(k_p),
+      k_v_(k_v),
+      q0_d_min_(q0_d_min),
+      q0_d_max_(q0_d_max),
+      map_(std::move(map)),
+      q0_d_(q0_d_initial) {
+  std::string error;
+  if (!p_.IsValid(&error)) throw std::invalid_argument(error);
+}
+
+double VelocityControl::Command(double v_d) {
+  if (!p_.enabled || !have_command_) {
+    v_c_ = v_d;
+    have_command_ = true;
+    return v_c_;
+  }
+  double next = v_d;
+  if (p_.v_d_rate > 0.0) next = std::clamp(v_d, v_c_ - p_.v_d_rate, v_c_ + p_.v_d_rate);
+  pending_ff_ += p_.feedforward_gain * (map_.At(next) - map_.At(v_c_));
+  v_c_ = next;
+  return v_c_;
+}
+
+double VelocityControl::Update(double v_m, double t_step, double extra) {
+  const double error = v_c_ - v_m;
+  double dq0 = k_p_ * error + pending_ff_ + extra;
+  pending_ff_ = 0.0;
+  if (p_.enabled && p_.start_at_map && !started_) {
+    started_ = true;
+    q0_d_ = std::clamp(map_.At(v_c_), q0_d_min_, q0_d_max_);
+    last_error_ = error;
+    last_v_m_ = v_m;
+    have_error_ = true;
+    return q0_d_;
+  }
+  started_ = true;
+  // Enabled, the derivative acts on the measured speed only: the feed-forward answers a change of
+  // the command, which would otherwise also kick the derivative term.
+  if (have_error_) {
+    dq0 += k_v_ * (p_.enabled ? last_v_m_ - v_m : error - last_error_) / t_step;
+  }
+  q0_d_ = std::clamp(q0_d_ + dq0, q0_d_min_, q0_d_max_);
+  last_error_ = error;
+  last_v_m_ = v_m;
+  have_error_ = true;
+  return q0_d_;
+}
+
+}  // namespace rabbit

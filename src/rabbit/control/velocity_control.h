@@ -1,0 +1,94 @@
+// The walker's velocity control: one update of the desired trunk pitch q0_d per step (chapter
+// eqs. 19-20), and, beyond the chapter, speed transitions led by the trunk (docs/design.md,
+// "Velocity control").
+//
+// The chapter's law, at each touchdown with a measured step:
+//   q0_d(n+1) = q0_d(n) + K_P (V_d - V_M) + K_V d/dt (V_d - V_M),
+// the derivative being the change of the error over the last step divided by t_step, and q0_d
+// clamped to [q0_d_min, q0_d_max].
+//
+// With `enabled` the walker acts on a command V_c instead of V_d, and the trunk leads the change:
+//   rate limit    V_c moves toward V_d by at most v_d_rate per touchdown (the FIS and the law
+//                 above see V_c), so that a large change does not swap the gait pattern to one
+//                 far from the current speed in one step;
+//   feed-forward  every change of V_c moves q0_d at once by feedforward_gain (P(V_c) - P(V_c')),
+//                 V_c' the previous command, where P is the trunk pitch of the reference gaits as
+//                 a function of their measured speed (the gait database's q0_d and V_M), made
+//                 non-decreasing (pool-adjacent-violators) and interpolated linearly, constant
+//                 beyond its ends. The feedback law then removes what the map leaves; its
+//                 derivative term acts on V_M alone (-K_V dV_M/dt), so that a change of the
+//                 command is answered by the feed-forward only, not kicked twice;
+//   start         with start_at_map, the first update after the warm-up sets q0_d = P(V_c).
+// P is the gaits' map, or a map given as points (pitch_map), e.g. the pitches the walker itself
+// settles at (docs/design.md, "Velocity control").
+#ifndef RABBIT_CONTROL_VELOCITY_CONTROL_H_
+#define RABBIT_CONTROL_VELOCITY_CONTROL_H_
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace rabbit {
+
+struct VelocityControlParams {
+  bool enabled = false;           // false: the chapter's law alone (V_c = V_d)
+  double v_d_rate = 0.15;         // m/s per step: the largest change of V_c at a touchdown
+  double feedforward_gain = 1.0;  // share of the map's pitch change applied at once
+  // The map P as (V in m/s, q0_d in rad) points (made non-decreasing); empty: the reference
+  // gaits' (measured V_M, q0_d) from the gait database.
+  std::vector<std::pair<double, double>> pitch_map;
+  // At the first update after the warm-up, q0_d starts at P(V_c) instead of the start gait's.
+  bool start_at_map = true;
+  bool IsValid(std::string* error) const;
+};
+
+// The reference gaits' trunk pitch against speed, non-decreasing (see above).
+class PitchMap {
+ public:
+  PitchMap() = default;
+  // points: (V_M in m/s, q0_d in rad) of each gait, any order; non-finite points are refused
+  // (std::invalid_argument). An empty map is 0 everywhere.
+  explicit PitchMap(std::vector<std::pair<double, double>> points);
+  double At(double v) const;
+  const std::vector<std::pair<double, double>>& points() const { return points_; }
+
+ private:
+  std::vector<std::pair<double, double>> points_;  // sorted by speed, pitch non-decreasing
+};
+
+// Pool-adjacent-violators: the non-decreasing sequence nearest y in least squares (equal
+// weights).
+std::vector<double> NonDecreasingFit(const std::vector<double>& y);
+
+class VelocityControl {
+ public:
+  // k_p in rad per m/s, k_v in rad per m/s^2, the q0_d range and its start value in rad.
+  VelocityControl(const VelocityControlParams& params, double k_p, double k_v, double q0_d_min,
+                  double q0_d_max, double q0_d_initial, PitchMap map);
+  // At each touchdown, before Update: the command V_c for the coming step (V_d itself when not
+  // enabled). The first call starts V_c at v_d.
+  double Command(double v_d);
+  // The law at a touchdown whose step was measured (V_M in m/s, t_step in s) outside the warm-up:
+  // returns the new q0_d. `extra` (rad) joins the step's change of q0_d before the clamp (the
+  // slope adaptation's braking).
+  double Update(double v_m, double t_step, double extra = 0.0);
+  double q0_d() const { return q0_d_; }
+  double command() const { return v_c_; }
+
+ private:
+  VelocityControlParams p_;
+  double k_p_, k_v_, q0_d_min_, q0_d_max_;
+  PitchMap map_;
+  double q0_d_;
+  double v_c_ = 0.0;
+  bool have_command_ = false;
+  double pending_ff_ = 0.0;  // feed-forward of command changes not yet applied (rad)
+  double last_error_ = 0.0;  // V_c - V_M at the previous update
+  double last_v_m_ = 0.0;    // V_M at the previous update
+  bool have_error_ = false;
+  bool started_ = false;  // the first update has been made
+};
+
+}  // namespace rabbit
+
+#endif  // RABBIT_CONTROL_VELOCITY_CONTROL_H_

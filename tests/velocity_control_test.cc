@@ -1,0 +1,207 @@
+// The walker's velocity control: the chapter's law (eqs. 19-20) against a hand computation, the
+// pitch map's pool-adjacent-violators fit against a brute-force least-squares search, the rate
+// limit and feed-forward against hand-computed steps, and [controller.velocity_control]'s keys.
+#include "rabbit/control/velocity_control.h"
+
+#include <gtest/gtest.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <stdexcept>
+
+#include "rabbit/io/error.h"
+#include "rabbit/scenario/suite.h"
+
+namespace rabbit {
+namespace {
+
+constexpr double kTolerance = 1e-12;
+
+TEST(VelocityControlTest, OffIsTheChaptersLaw) {
+  VelocityControlParams p;  // enabled = false
+  const double k_p = 0.2, k_v = 0.1;
+  VelocityControl c(p, k_p, k_v, -0.1, 0.45, 0.07, PitchMap({{0.4, 0.0}, {0.8, 0.3}}));
+  EXPECT_DOUBLE_EQ(c.Command(0.6), 0.6);
+  // First update: K_P e only (no previous error): 0.07 + 0.2 * (0.6 - 0.5).
+  EXPECT_NEAR(c.Update(0.5, 0.6), 0.07 + 0.02, kTolerance);
+  // A jump of V_d is passed through whole (no rate limit, no feed-forward).
+  EXPECT_DOUBLE_EQ(c.Command(0.9), 0.9);
+  // Second: + K_P e + K_V (e - e_prev) / t_step with e = 0.9 - 0.55 = 0.35, e_prev = 0.1.
+  const double expected = 0.09 + 0.2 * 0.35 + 0.1 * (0.35 - 0.1) / 0.5;
+  EXPECT_NEAR(c.Update(0.55, 0.5), expected, kTolerance);
+  // Clamped to q0_d_max.
+  for (int i = 0; i < 20; ++i) c.Update(0.3, 0.5);
+  EXPECT_DOUBLE_EQ(c.q0_d(), 0.45);
+}
+
+// The least-squares non-decreasing fit, by brute force over a grid for three points.
+TEST(PitchMapTest, NonDecreasingFitIsTheLeastSquaresMonotoneSequence) {
+  const std::vector<double> y = {0.0, -0.05, 0.1, 0.08};
+  const std::vector<double> fit = NonDecreasingFit(y);
+  ASSERT_EQ(fit.size(), y.size());
+  for (size_t i = 1; i < fit.size(); ++i) EXPECT_LE(fit[i - 1], fit[i]);
+  // Pooling by hand: (0, -0.05) -> -0.025 twice, (0.1, 0.08) -> 0.09 twice.
+  EXPECT_NEAR(fit[0], -0.025, kTolerance);
+  EXPECT_NEAR(fit[1], -0.025, kTolerance);
+  EXPECT_NEAR(fit[2], 0.09, kTolerance);
+  EXPECT_NEAR(fit[3], 0.09, kTolerance);
+  // Brute force: no non-decreasing sequence on a 0.005 grid has a smaller squared error.
+  auto sse = [&y](const std::vector<double>& s) {
+    double e = 0.0;
+    for (size_t i = 0; i < y.size(); ++i) e += (s[i] - y[i]) * (s[i] - y[i]);
+    return e;
+  };
+  double best = std::numeric_limits<double>::infinity();
+  for (int a = -20; a <= 30; ++a)
+    for (int b = a; b <= 30; ++b)
+      for (int c = b; c <= 30; ++c)
+        for (int d = c; d <= 30; ++d)
+          best = std::min(best, sse({a * 0.005, b * 0.005, c * 0.005, d * 0.005}));
+  EXPECT_LE(sse(fit), best + 1e-12);
+  EXPECT_EQ(NonDecreasingFit({}).size(), 0u);
+}
+
+TEST(PitchMapTest, InterpolatesTheMonotoneGaitPitches) {
+  // The shipped database's shape: 0.5 m/s leans less than 0.4 m/s, and is pooled with it.
+  const PitchMap map({{0.5, -0.05}, {0.4, 0.0}, {0.6, 0.15}});
+  EXPECT_NEAR(map.At(0.4), -0.025, kTolerance);
+  EXPECT_NEAR(map.At(0.5), -0.025, kTolerance);
+  EXPECT_NEAR(map.At(0.55), -0.025 + 0.5 * (0.15 + 0.025), kTolerance);
+  EXPECT_NEAR(map.At(0.2), -0.025, kTolerance);  // constant beyond the ends
+  EXPECT_NEAR(map.At(2.0), 0.15, kTolerance);
+  EXPECT_DOUBLE_EQ(PitchMap().At(0.7), 0.0);
+  EXPECT_THROW(PitchMap({{std::nan(""), 0.0}}), std::invalid_argument);
+}
+
+TEST(VelocityControlTest, RateLimitAndFeedForward) {
+  VelocityControlParams p;
+  p.enabled = true;
+  p.v_d_rate = 0.1;
+  p.feedforward_gain = 0.5;
+  p.start_at_map = false;
+  const PitchMap map({{0.4, 0.0}, {0.8, 0.2}});  // 0.5 rad per m/s
+  const double k_p = 0.2, k_v = 0.1;
+  VelocityControl c(p, k_p, k_v, -0.1, 0.45, 0.05, map);
+  EXPECT_DOUBLE_EQ(c.Command(0.4), 0.4);  // the first command is V_d itself
+  EXPECT_NEAR(c.Update(0.4, 0.6), 0.05, kTolerance);
+  // V_d jumps to 0.8: the command moves by 0.1 per touchdown.
+  EXPECT_NEAR(c.Command(0.8), 0.5, kTolerance);
+  // q0_d: + K_P (0.5 - 0.42) + gain (P(0.5) - P(0.4)) - K_V (0.42 - 0.4) / t_step.
+  double q = 0.05 + 0.2 * 0.08 + 0.5 * 0.05 - 0.1 * 0.02 / 0.5;
+  EXPECT_NEAR(c.Update(0.42, 0.5), q, kTolerance);
+  EXPECT_NEAR(c.Command(0.8), 0.6, kTolerance);
+  EXPECT_NEAR(c.Command(0.8), 0.7, kTolerance);  // two commands before an update: both fed
+  q += 0.2 * (0.7 - 0.5) + 0.5 * (0.15 - 0.05) - 0.1 * (0.5 - 0.42) / 0.5;
+  EXPECT_NEAR(c.Update(0.5, 0.5), q, kTolerance);
+  EXPECT_NEAR(c.Command(0.8), 0.8, kTolerance);
+  EXPECT_NEAR(c.Command(0.8), 0.8, kTolerance);    // arrived
+  EXPECT_NEAR(c.Command(0.75), 0.75, kTolerance);  // within the rate: at once
+}
+
+TEST(VelocityControlTest, StartsAtTheMap) {
+  VelocityControlParams p;
+  p.enabled = true;
+  const PitchMap map({{0.4, 0.0}, {0.8, 0.2}});
+  VelocityControl c(p, 0.2, 0.1, -0.1, 0.45, 0.05, map);
+  c.Command(0.7);
+  EXPECT_NEAR(c.Update(0.6, 0.5), 0.15, kTolerance);  // P(0.7), not 0.05 + K_P e
+  // Then the law: + K_P (0.7 - 0.65) - K_V (0.65 - 0.6) / 0.5.
+  c.Command(0.7);
+  EXPECT_NEAR(c.Update(0.65, 0.5), 0.15 + 0.2 * 0.05 - 0.1 * 0.05 / 0.5, kTolerance);
+}
+
+TEST(VelocityControlTest, ParamsValidation) {
+  VelocityControlParams p;
+  std::string error;
+  EXPECT_TRUE(p.IsValid(&error));
+  p.v_d_rate = -0.1;
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("v_d_rate"), std::string::npos);
+  p = VelocityControlParams();
+  p.feedforward_gain = std::nan("");
+  EXPECT_FALSE(p.IsValid(&error));
+  p = VelocityControlParams();
+  p.pitch_map = {{0.5, 1.0}};  // 57 deg
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("pitch_map_deg"), std::string::npos);
+}
+
+// [controller.velocity_control] keys: read, in degrees at the edge, errors naming file, line, key.
+class VelocityControlKeysTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = std::filesystem::temp_directory_path() /
+           ("rabbit_velocity_control_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    std::filesystem::create_directories(dir_);
+  }
+  void TearDown() override { std::filesystem::remove_all(dir_); }
+  std::string Write(const std::string& keys) {
+    const std::string root = RABBIT_SOURCE_DIR;
+    const std::string path = (dir_ / "suite.toml").string();
+    std::ofstream(path) << "[suite]\nname = \"t\"\n[defaults.simulation]\nduration = 2.0\n"
+                        << "[defaults.velocity]\nvalue = 0.6\n[defaults.controller]\n"
+                        << "type = \"fuzzy_cmac\"\nfll = \"" << root
+                        << "/gaits/gait_pattern.fll\"\nnetworks = \"" << root
+                        << "/gaits/networks\"\ngaits = \"" << root << "/gaits/reference\"\n"
+                        << "[defaults.controller.velocity_control]\n"  // line 12
+                        << keys << "[[scenario]]\nname = \"a\"\n";
+    return path;
+  }
+  void ExpectError(const std::string& keys, const std::string& key) {
+    const std::string path = Write(keys);
+    try {
+      LoadSuite(path);
+      ADD_FAILURE() << "no error for:\n" << keys;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.file(), path);
+      EXPECT_EQ(e.line(), 13) << e.what();
+      EXPECT_EQ(e.key(), key) << e.what();
+    }
+  }
+  std::filesystem::path dir_;
+};
+
+TEST_F(VelocityControlKeysTest, ReadAndValidated) {
+  const Suite off = LoadSuite(Write(""));
+  EXPECT_FALSE(off.scenarios[0].walker.velocity_control.enabled);  // the default
+  const Suite suite = LoadSuite(
+      Write("enabled = true\nv_d_rate = 0.2\nfeedforward_gain = 0.25\nstart_at_map = false\n"
+            "pitch_map_deg = [[0.4, 0.0], [0.8, 18.0]]\n"));
+  const VelocityControlParams& v = suite.scenarios[0].walker.velocity_control;
+  EXPECT_TRUE(v.enabled);
+  EXPECT_DOUBLE_EQ(v.v_d_rate, 0.2);
+  EXPECT_DOUBLE_EQ(v.feedforward_gain, 0.25);
+  EXPECT_FALSE(v.start_at_map);
+  ASSERT_EQ(v.pitch_map.size(), 2u);
+  EXPECT_NEAR(v.pitch_map[1].second, 18.0 * M_PI / 180.0, kTolerance);
+  ExpectError("v_d_rate = -1.0\n", "scenario[1].controller.velocity_control.v_d_rate");
+  ExpectError("feedforward_gain = 3.0\n",
+              "scenario[1].controller.velocity_control.feedforward_gain");
+  ExpectError("pitch_map_deg = [[0.4, 60.0]]\n",
+              "scenario[1].controller.velocity_control.pitch_map_deg");
+  ExpectError("enabld = true\n", "scenario[1].controller.velocity_control.enabld");
+}
+
+// The training suite loads, with the velocity control enabled and its walker's own pitch map.
+TEST(VelocityControlTrainingSuiteTest, Loads) {
+  const Suite suite = LoadSuite(std::string(RABBIT_SOURCE_DIR) + "/scenarios/train/speed.toml");
+  ASSERT_FALSE(suite.scenarios.empty());
+  for (const Scenario& s : suite.scenarios) {
+    const VelocityControlParams& v = s.walker.velocity_control;
+    EXPECT_TRUE(v.enabled) << s.name;
+    ASSERT_GE(v.pitch_map.size(), 2u) << s.name;
+    // Made non-decreasing by the map, the points as written already are.
+    for (size_t i = 1; i < v.pitch_map.size(); ++i) {
+      EXPECT_LT(v.pitch_map[i - 1].first, v.pitch_map[i].first);
+      EXPECT_LE(v.pitch_map[i - 1].second, v.pitch_map[i].second);
+    }
+  }
+}
+
+}  // namespace
+}  // namespace rabbit
