@@ -77,11 +77,11 @@ std::unique_ptr<Evaluator::Candidate> Evaluator::Load(const std::vector<double>&
   c->x = x;
   const ParamOverlay overlay = job_.Overlay(x);
   try {
-    for (const std::string& path : job_.suites) c->suites.push_back(LoadSuite(path, &overlay));
-    const NameFilter filter(job_.filter, "job.filter", job_.filter);
+    for (const std::string& path : suites_) c->suites.push_back(LoadSuite(path, &overlay));
+    const NameFilter filter(filter_, "job.filter", filter_);
     for (const Suite& suite : c->suites) {
       for (const Scenario& s : suite.scenarios) {
-        if (!filter.Matches(s.name)) continue;
+        if (!filter.Matches(s.name) || (required_only_ && !s.required)) continue;
         if (s.controller == ControllerKind::kFuzzyCmac) libraries_.Get(s.pattern);
         c->jobs.push_back({&s, ScenarioVariants(s).front()});
         c->job_suite.push_back(suite.name);
@@ -143,6 +143,12 @@ void ScoreEvaluation(const TuneObjective& objective, Evaluation* e) {
     e->terms[t] = sum / static_cast<double>(e->scores.size());
     if (objective.weight[t] > 0.0) e->objective += objective.weight[t] * e->terms[t];
   }
+}
+
+bool EligibleAsBest(const TuneJob& job, const Evaluation& e) {
+  if (job.guards.empty()) return true;  // the lowest objective, whatever it is
+  return e.error.empty() && e.objective < kInvalidObjective && e.guards_run &&
+         e.guard_broken.empty();
 }
 
 }  // namespace rabbit

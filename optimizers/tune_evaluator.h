@@ -1,6 +1,7 @@
 // Evaluating tuning candidates (rabbit tune): the runs of every matching scenario's main variant
-// of the job's suites under a candidate's overlay, dealt over MPI ranks by index and over threads
-// within a rank (RunBatch), gathered back in order and scored (ScoreEvaluation, tuner.h).
+// of some suites (the job's, or its guard suites' required ones) under a candidate's overlay, dealt
+// over MPI ranks by index and over threads within a rank (RunBatch), gathered back in order and
+// scored (ScoreEvaluation, tuner.h).
 #ifndef RABBIT_OPTIMIZERS_TUNE_EVALUATOR_H_
 #define RABBIT_OPTIMIZERS_TUNE_EVALUATOR_H_
 
@@ -18,7 +19,18 @@ namespace rabbit::tune_internal {
 
 class Evaluator {
  public:
-  Evaluator(const TuneJob& job, int threads) : job_(job), threads_(threads) {}
+  // The job's suites, scenarios matching its filter.
+  Evaluator(const TuneJob& job, int threads)
+      : Evaluator(job, job.suites, job.filter, false, threads) {}
+  // Other suites (e.g. the job's guards): scenarios matching `filter`, the required ones only
+  // when `required_only`; the candidates' overlay is still the job's.
+  Evaluator(const TuneJob& job, std::vector<std::string> suites, std::string filter,
+            bool required_only, int threads)
+      : job_(job),
+        suites_(std::move(suites)),
+        filter_(std::move(filter)),
+        required_only_(required_only),
+        threads_(threads) {}
 
   // Evaluates the candidates (on every rank, collectively): scores, terms and objective.
   std::vector<Evaluation> Evaluate(const std::vector<std::vector<double>>& xs);
@@ -38,6 +50,9 @@ class Evaluator {
                     std::vector<RunScore>* scores);
 
   const TuneJob& job_;
+  std::vector<std::string> suites_;
+  std::string filter_;
+  bool required_only_;
   int threads_;
   GaitLibraryCache libraries_;
 };

@@ -33,7 +33,7 @@ std::string EvaluationsHeader(const TuneJob& job) {
   for (int t = 0; t < kNumTuneTerms; ++t) h += std::string(",") + TuneTermName(t);
   h += ",runs,failed";
   for (const TuneParameter& p : job.parameters) h += "," + p.name;
-  return h + ",error,wall_s";
+  return h + ",guards_run,guard_broken,error,wall_s";
 }
 
 std::string RunsHeader() {
@@ -51,7 +51,8 @@ std::string EvaluationRow(const Evaluation& e) {
   for (double v : e.x) row += "," + ExactNumber(v);
   char wall[32];
   std::snprintf(wall, sizeof wall, "%.3f", e.wall);
-  return row + "," + CsvText(e.error) + "," + wall;
+  return row + "," + (e.guards_run ? "1" : "0") + "," + CsvText(e.guard_broken) + "," +
+         CsvText(e.error) + "," + wall;
 }
 
 std::string RunRows(const Evaluation& e) {
@@ -102,6 +103,8 @@ std::map<std::pair<int, int>, Evaluation> ParseLog(const TuneJob& job, const std
     e.runs = table.Integer(r, c++);
     e.failed = table.Integer(r, c++);
     for (size_t p = 0; p < job.parameters.size(); ++p) e.x.push_back(table.Number(r, c++));
+    e.guards_run = table.Integer(r, c++) != 0;
+    e.guard_broken = table.Text(r, c++);
     e.error = table.Text(r, c++);
     e.wall = table.Number(r, c++, CsvNumber::kAny);
     auto [it, inserted] = out.emplace(std::make_pair(e.start, e.seq), std::move(e));

@@ -44,6 +44,8 @@ table.meta{margin:10px 0;font-size:13.5px;min-width:600px}
 .worse{color:#a3150f}
 tr.best td{background:#e7f0fa;font-weight:600}
 tr.invalid td{color:#8a1c14;background:#fdf3f2}
+tr.guard td{background:#fff6e0}
+td.guard{text-align:left;white-space:normal;min-width:140px}
 td.num{font-variant-numeric:tabular-nums}
 td.error{text-align:left;white-space:normal;min-width:180px}
 td.pass{background:var(--pass);color:#16652a;font-weight:700}
@@ -166,6 +168,14 @@ std::string HeaderHtml(const TuneData& data, const std::string& source) {
   for (const std::string& s : SplitList(m.suites))
     suites += "<li><code>" + HtmlEscape(s) + "</code></li>";
   suites = suites.empty() ? "&ndash;" : "<ul class=\"suites\">" + suites + "</ul>";
+  std::string guards;
+  for (const std::string& s : SplitList(m.guards)) {
+    guards += "<li><code>" + HtmlEscape(s) + "</code></li>";
+  }
+  guards = guards.empty() ? "none"
+                          : "<ul class=\"suites\">" + guards +
+                                "</ul><span class=\"note\">the best must keep their required "
+                                "scenarios passing</span>";
   const std::pair<const char*, std::string> rows[] = {
       {"algorithm", "<code>" + HtmlEscape(m.algorithm) + "</code>"},
       {"seed", HtmlEscape(m.seed)},
@@ -174,6 +184,7 @@ std::string HeaderHtml(const TuneData& data, const std::string& source) {
       {"objective form", "<code>" + HtmlEscape(m.form) + "</code>"},
       {"weights", weights},
       {"suites", suites},
+      {"guards", guards},
       {"job file", "<code>" + HtmlEscape(m.job_file) + "</code>"},
       {"fingerprint", "<code>" + HtmlEscape(m.fingerprint) + "</code>"},
   };
@@ -269,6 +280,37 @@ std::string ComparisonTable(const TuneData& data) {
   return html.str();
 }
 
+// The candidates that broke a guard (could not be the best): each with the required guard
+// scenarios it failed, linked to its row of the log.
+std::string GuardsSection(const TuneData& data) {
+  if (SplitList(data.meta.guards).empty()) return "";
+  int run = 0;
+  std::vector<const Evaluation*> broke;
+  for (const Evaluation& e : data.evaluations) {
+    run += e.guards_run == 1 ? 1 : 0;
+    if (e.broke_guard()) broke.push_back(&e);
+  }
+  std::ostringstream html;
+  html << "<section id=\"guards\"><h2>Guards</h2>\n<p>The guard suites ran for " << run
+       << (run == 1 ? " candidate" : " candidates")
+       << " (each one that beat its search's best eligible objective so far); " << broke.size()
+       << " broke a required scenario and could not be the best";
+  if (!data.meta.best_eval) html << "; <strong>no candidate kept them</strong>";
+  html << ".</p>\n";
+  if (!broke.empty()) {
+    html << "<div class=\"table-wrap\"><table class=\"log\"><thead><tr><th>eval</th>"
+            "<th>objective</th><th>broke</th></tr></thead><tbody>\n";
+    for (const Evaluation* e : broke) {
+      html << "<tr class=\"guard\"><td><a href=\"#eval-" << e->eval << "\">" << e->eval
+           << "</a></td><td class=\"num\">" << Cell(e->objective) << "</td><td class=\"guard\">"
+           << HtmlEscape(e->guard_broken) << "</td></tr>\n";
+    }
+    html << "</tbody></table></div>\n";
+  }
+  html << "</section>\n";
+  return html.str();
+}
+
 std::string EvaluationLog(const TuneData& data) {
   std::vector<int> terms;
   for (int k = 0; k < kTerms; ++k) {
@@ -285,6 +327,9 @@ std::string EvaluationLog(const TuneData& data) {
   for (int k : terms) table << "<th>" << kTermNames[k] << "</th>";
   table << "<th>runs</th><th>failed</th>";
   for (const Parameter& p : data.parameters) table << "<th>" << HtmlEscape(p.path) << "</th>";
+  bool any_guards = false;
+  for (const Evaluation& e : data.evaluations) any_guards = any_guards || e.guards_run == 1;
+  if (any_guards) table << "<th>guards</th>";
   table << "<th>wall<br>s</th><th>error</th></tr></thead><tbody>\n";
   const std::vector<int> starts = Starts(data.evaluations);
   double best_so_far = std::numeric_limits<double>::infinity();
@@ -294,9 +339,10 @@ std::string EvaluationLog(const TuneData& data) {
     const bool improved = !e.invalid() && std::isfinite(e.objective) && e.objective < best_so_far;
     if (improved) best_so_far = e.objective;
     table << "<tr id=\"eval-" << e.eval << "\""
-          << (is_best       ? " class=\"best\""
-              : e.invalid() ? " class=\"invalid\""
-                            : "")
+          << (is_best           ? " class=\"best\""
+              : e.invalid()     ? " class=\"invalid\""
+              : e.broke_guard() ? " class=\"guard\""
+                                : "")
           << "><td>" << e.eval << "</td><td>" << e.round << "</td><td><span class=\"swatch\" "
           << "style=\"background:" << StartColor(starts, e.start) << "\"></span>" << e.start
           << "</td><td>" << e.seq << "</td><td class=\"num\">" << Cell(e.objective) << "</td><td>"
@@ -304,13 +350,21 @@ std::string EvaluationLog(const TuneData& data) {
     for (int k : terms) table << "<td class=\"num\">" << Cell(e.terms[k], 4) << "</td>";
     table << "<td>" << e.runs << "</td><td>" << e.failed << "</td>";
     for (double v : e.params) table << "<td class=\"num\">" << Cell(v) << "</td>";
+    if (any_guards) {
+      table << "<td class=\"guard\">"
+            << (e.guards_run != 1 ? ""
+                : e.broke_guard() ? "broke: " + HtmlEscape(e.guard_broken)
+                                  : std::string("kept"))
+            << "</td>";
+    }
     table << "<td class=\"num\">" << Cell(e.wall, 3) << "</td><td class=\"error\">"
           << HtmlEscape(e.error) << "</td></tr>\n";
   }
   table << "</tbody></table></div>\n";
   std::ostringstream html;
   html << "<p class=\"note\">Every candidate in evaluation order; &#9660; marks a new best so far, "
-          "the best candidate is in bold, invalid candidates in red.</p>\n";
+          "the best candidate is in bold, invalid candidates in red, candidates that broke a guard "
+          "in amber.</p>\n";
   if (data.evaluations.size() > kOpenLogRows) {
     html << "<details class=\"log\"><summary>All " << data.evaluations.size()
          << " evaluations</summary>\n"
@@ -390,6 +444,8 @@ void WriteTuneReport(const std::string& dir, const TuneReportOptions& options,
   }
   if (!f_convergence) html << "<p class=\"note\">No valid evaluation to plot.</p>\n";
   html << "</section>\n";
+
+  html << GuardsSection(data);
 
   html << "<section id=\"parameters\"><h2>Parameters</h2>\n"
        << figure(f_traces) << ParametersTable(data) << "</section>\n";

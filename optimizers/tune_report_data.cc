@@ -99,6 +99,7 @@ Meta ReadMeta(const std::string& path) {
   meta.suites = text("suites");
   meta.evaluations = text("evaluations");
   meta.fingerprint = text("fingerprint");
+  if (rows.count("guards") != 0) meta.guards = text("guards");  // optional: older jobs
   meta.initial_eval = eval("initial_eval");
   meta.best_eval = eval("best_eval");
   meta.initial_objective = number("initial_objective");
@@ -150,6 +151,12 @@ std::vector<Evaluation> ReadEvaluations(const std::string& path,
                c_failed = table.Column("failed"), c_error = table.Column("error"),
                c_wall = table.Column("wall_s");
   const std::array<size_t, kTerms> c_terms = TermColumns(table, "");
+  // Optional (a log from before guard suites): both or neither.
+  std::optional<size_t> c_guards, c_broken;
+  if (table.HasColumn("guards_run") || table.HasColumn("guard_broken")) {
+    c_guards = table.Column("guards_run");
+    c_broken = table.Column("guard_broken");
+  }
   std::vector<size_t> c_params;
   for (const Parameter& p : parameters) c_params.push_back(table.Column(p.path));
   std::vector<Evaluation> out;
@@ -173,6 +180,10 @@ std::vector<Evaluation> ReadEvaluations(const std::string& path,
     e.failed = table.Integer(r, c_failed);
     for (size_t c : c_params) e.params.push_back(table.Number(r, c, CsvNumber::kFiniteOrNan));
     e.error = table.Text(r, c_error);
+    if (c_guards) {
+      e.guards_run = ReadFlag(table, r, *c_guards, false);
+      e.guard_broken = table.Text(r, *c_broken);
+    }
     e.wall = table.Number(r, c_wall, CsvNumber::kFiniteOrNan);
     out.push_back(std::move(e));
   }

@@ -45,6 +45,7 @@ const char* const kInvalidColor = "#9a9a9a";
 struct Meta {
   std::string job, description, job_file, algorithm, seed, starts, max_evaluations, form, weights,
       suites, evaluations, fingerprint;
+  std::string guards;  // the guard suites, ";"-joined (empty: none, or a log from before guards)
   std::optional<int> initial_eval, best_eval;
   double initial_objective = kNan, best_objective = kNan;
   bool complete = false;
@@ -57,6 +58,9 @@ struct Evaluation {
   Terms terms{};
   std::vector<double> params;  // in parameters.csv's order
   std::string error;
+  int guards_run = -1;       // 1, 0, or -1: the log has no guard columns
+  std::string guard_broken;  // the required guard scenarios it failed (empty: kept, or not run)
+  bool broke_guard() const { return guards_run == 1 && !guard_broken.empty(); }
   // An error, or the tuner's penalty objective (or none at all): not a point of the search.
   bool invalid() const { return !error.empty() || !(objective < kInvalidObjective); }
 };

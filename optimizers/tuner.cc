@@ -6,6 +6,7 @@
 #include <cstdlib>
 #include <exception>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <memory>
 #include <sstream>
@@ -17,6 +18,7 @@
 #include "rabbit/io/test_hooks.h"
 #include "rabbit/scenario/suite.h"
 #include "tune_evaluator.h"
+#include "tune_guards.h"
 #include "tune_log.h"
 #include "tune_report.h"
 #include "tune_search.h"
@@ -38,27 +40,33 @@ std::string Join(const std::vector<std::string>& parts, const char* separator) {
 void WriteOutputs(const TuneJob& job, const fs::path& dir, const TuneResult& result,
                   const TuneOptions& options, std::vector<std::string>* warnings) {
   const Evaluation& initial = result.evaluations[result.initial];
-  const Evaluation& best = result.evaluations[result.best];
-  const ParamOverlay overlay = job.Overlay(best.x);
-  char summary[512];
-  std::snprintf(summary, sizeof summary,
-                "objective %s at evaluation %d (search %d) against %s at the initial values",
-                ExactNumber(best.objective).c_str(), best.index, best.start,
-                ExactNumber(initial.objective).c_str());
-  WriteFileAtomically((dir / "best.toml").string(), [&](std::ostream& out) {
-    out << ParamOverlayToml(
-        overlay, "rabbit tune " + job.name + " (" + job.file + "): the best of " +
-                     std::to_string(result.evaluations.size()) + " evaluations, " + summary +
-                     ".\n" + TuneAlgorithmName(job.algorithm) + ", seed " +
-                     std::to_string(job.seed) + ", suites " + Join(job.suites, ", ") +
-                     ".\nUse: rabbit run --params best.toml SUITE");
-  });
+  // No best (no candidate kept the guards): no best.toml, and the best columns left empty.
+  const Evaluation* best = result.best >= 0 ? &result.evaluations[result.best] : nullptr;
+  if (best != nullptr) {
+    const ParamOverlay overlay = job.Overlay(best->x);
+    char summary[512];
+    std::snprintf(summary, sizeof summary,
+                  "objective %s at evaluation %d (search %d) against %s at the initial values",
+                  ExactNumber(best->objective).c_str(), best->index, best->start,
+                  ExactNumber(initial.objective).c_str());
+    const std::string guards =
+        job.guards.empty() ? "" : ".\nIt keeps the required scenarios of " + Join(job.guards, ", ");
+    WriteFileAtomically((dir / "best.toml").string(), [&](std::ostream& out) {
+      out << ParamOverlayToml(
+          overlay, "rabbit tune " + job.name + " (" + job.file + "): the best of " +
+                       std::to_string(result.evaluations.size()) + " evaluations, " + summary +
+                       ".\n" + TuneAlgorithmName(job.algorithm) + ", seed " +
+                       std::to_string(job.seed) + ", suites " + Join(job.suites, ", ") + guards +
+                       ".\nUse: rabbit run --params best.toml SUITE");
+    });
+  }
   WriteFileAtomically((dir / "parameters.csv").string(), [&](std::ostream& out) {
     out << "path,lower,upper,initial,best\n";
     for (size_t i = 0; i < job.parameters.size(); ++i) {
       const TuneParameter& p = job.parameters[i];
       out << p.name << "," << ExactNumber(p.lower) << "," << ExactNumber(p.upper) << ","
-          << ExactNumber(initial.x[i]) << "," << ExactNumber(best.x[i]) << "\n";
+          << ExactNumber(initial.x[i]) << ","
+          << (best != nullptr ? ExactNumber(best->x[i]) : std::string("nan")) << "\n";
     }
   });
   WriteFileAtomically((dir / "comparison.csv").string(), [&](std::ostream& out) {
@@ -68,7 +76,9 @@ void WriteOutputs(const TuneJob& job, const fs::path& dir, const TuneResult& res
     }
     out << "\n";
     std::map<std::pair<std::string, std::string>, const RunScore*> at_best;
-    for (const RunScore& s : best.scores) at_best[{s.suite, s.scenario}] = &s;
+    if (best != nullptr) {
+      for (const RunScore& s : best->scores) at_best[{s.suite, s.scenario}] = &s;
+    }
     for (const RunScore& s : initial.scores) {
       const auto found = at_best.find({s.suite, s.scenario});
       const RunScore* b = found == at_best.end() ? nullptr : found->second;
@@ -102,11 +112,12 @@ void WriteOutputs(const TuneJob& job, const fs::path& dir, const TuneResult& res
     row("form", job.objective.squares ? "mean_square" : "mean");
     row("weights", Join(weights, ";"));
     row("suites", Join(job.suites, ";"));
+    row("guards", Join(job.guards, ";"));
     row("evaluations", std::to_string(result.evaluations.size()));
     row("initial_eval", std::to_string(initial.index));
-    row("best_eval", std::to_string(best.index));
+    row("best_eval", best != nullptr ? std::to_string(best->index) : "");
     row("initial_objective", ExactNumber(initial.objective));
-    row("best_objective", ExactNumber(best.objective));
+    row("best_objective", best != nullptr ? ExactNumber(best->objective) : "nan");
     row("complete", "true");
     row("fingerprint", job.fingerprint);
   });
@@ -248,6 +259,10 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
     by_start[s] = searches.back().get();
   }
   Evaluator evaluator(job, options.threads);
+  GuardRunner guards(job, options.threads);
+  // Per search: the lowest objective of its candidates eligible as best so far.
+  std::map<int, double> best_eligible;
+  for (int s : starts) best_eligible[s] = std::numeric_limits<double>::infinity();
   std::map<int, int> seq;                              // per search: requests evaluated
   std::map<int, std::vector<const Evaluation*>> memo;  // per search: its evaluations
   std::vector<std::unique_ptr<Evaluation>> all;        // log order
@@ -260,6 +275,8 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
     std::vector<std::vector<const Evaluation*>> found(ss.size());
     // New in this folder's log this round, in request order: fresh ones and other shards' replays.
     std::vector<std::pair<Evaluation*, bool>> to_log;  // (evaluation, fresh)
+    // Every candidate new to the searches this round (not a memo hit), in request order.
+    std::vector<std::pair<Evaluation*, bool>> this_round;  // (evaluation, fresh)
     bool evaluated = false;
     for (size_t r = 0; r < ss.size(); ++r) {
       const int s = ss[r];
@@ -290,6 +307,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
           auto e = std::make_unique<Evaluation>(*replay);
           e->round = round;
           if (logged == recorded.end()) to_log.push_back({e.get(), false});  // from a shard
+          this_round.push_back({e.get(), false});
           ++result.replayed;
           memo[s].push_back(e.get());
           found[r].back() = e.get();
@@ -306,6 +324,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
         found[r].back() = e.get();
         memo[s].push_back(e.get());
         to_log.push_back({e.get(), true});
+        this_round.push_back({e.get(), true});
         all.push_back(std::move(e));
       }
       by_start.at(s)->Charge(charged);
@@ -324,6 +343,39 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
         e->seq = k;
         e->round = round;
         e->wall = wall;
+      }
+    }
+    // Guards: every candidate of the round that beats its search's best eligible objective as it
+    // stood before the round (one batch, whatever the round's order of finishing); replayed
+    // candidates carry their recorded verdict, which must be the one the job would reach now.
+    if (!job.guards.empty()) {
+      std::vector<Evaluation*> to_guard;
+      for (const auto& [e, is_fresh] : this_round) {
+        const bool wanted = e->error.empty() && e->objective < kInvalidObjective &&
+                            e->objective < best_eligible.at(e->start);
+        if (is_fresh) {
+          if (wanted) to_guard.push_back(e);
+        } else if (wanted != e->guards_run) {
+          throw InputError((dir / "evaluations.csv").string(), 0, "",
+                           "the job no longer reproduces its log (search " +
+                               std::to_string(e->start) + ", request " + std::to_string(e->seq) +
+                               (wanted ? " needs" : " does not need") +
+                               " its guards run): use --force to start over");
+        }
+      }
+      if (!to_guard.empty()) {
+        std::vector<std::vector<double>> gx;
+        for (const Evaluation* e : to_guard) gx.push_back(e->x);
+        const std::vector<std::string> broken = guards.Check(gx);
+        for (size_t g = 0; g < to_guard.size(); ++g) {
+          to_guard[g]->guards_run = true;
+          to_guard[g]->guard_broken = broken[g];
+        }
+      }
+    }
+    for (const auto& [e, is_fresh] : this_round) {
+      if (EligibleAsBest(job, *e)) {
+        best_eligible.at(e->start) = std::min(best_eligible.at(e->start), e->objective);
       }
     }
     // Numbered and logged in request order (searches in order, then their candidates), as one
@@ -362,12 +414,13 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   for (size_t i = 0; i < result.evaluations.size(); ++i) {
     const Evaluation& e = result.evaluations[i];
     if (e.start == 0 && e.seq == 0) result.initial = static_cast<int>(i);
+    if (!EligibleAsBest(job, e)) continue;
     if (result.best < 0 || e.objective < result.evaluations[result.best].objective) {
       result.best = static_cast<int>(i);
     }
   }
   result.complete = !options.shard.active();
-  if (Ranks::root() && result.complete && result.initial >= 0 && result.best >= 0) {
+  if (Ranks::root() && result.complete && result.initial >= 0) {
     TestKillPoint("tune-searched");
     std::vector<std::string> warnings;
     WriteOutputs(job, dir, result, options, &warnings);
