@@ -20,10 +20,10 @@ struct AlgorithmName {
   TuneAlgorithm algorithm;
 };
 constexpr AlgorithmName kAlgorithms[] = {
-    {"bobyqa", TuneAlgorithm::kBobyqa}, {"sbplx", TuneAlgorithm::kSbplx},
-    {"cobyla", TuneAlgorithm::kCobyla}, {"neldermead", TuneAlgorithm::kNelderMead},
-    {"crs2", TuneAlgorithm::kCrs2},     {"isres", TuneAlgorithm::kIsres},
-    {"esch", TuneAlgorithm::kEsch},     {"direct", TuneAlgorithm::kDirect},
+    {"bobyqa", TuneAlgorithm::kBobyqa},    {"sbplx", TuneAlgorithm::kSbplx},
+    {"cobyla", TuneAlgorithm::kCobyla},    {"neldermead", TuneAlgorithm::kNelderMead},
+    {"crs2", TuneAlgorithm::kCrs2},        {"isres", TuneAlgorithm::kIsres},
+    {"esch", TuneAlgorithm::kEsch},        {"direct", TuneAlgorithm::kDirect},
     {"direct_l", TuneAlgorithm::kDirectL}, {"ceres", TuneAlgorithm::kCeres}};
 
 // A run without a value for a term counts this (docs/formats/tune-job.md).
@@ -62,9 +62,9 @@ std::string Near(const std::map<std::string, double>& settings, const std::strin
 }  // namespace
 
 const char* TuneTermName(int term) {
-  static const char* const kNames[kNumTuneTerms] = {"failure_rate", "speed_error",
+  static const char* const kNames[kNumTuneTerms] = {"failure_rate",       "speed_error",
                                                     "step_length_spread", "energy",
-                                                    "cost_of_transport", "saturation_time"};
+                                                    "cost_of_transport",  "saturation_time"};
   return kNames[term];
 }
 
@@ -120,6 +120,10 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
     job.suites.push_back(resolve(s));
   }
   if (job.suites.empty()) head.Fail("suites", "name at least one suite file");
+  for (const std::string& s : head.Strings("guards", {})) {
+    if (s.empty()) head.Fail("guards", "an empty path: name a suite file");
+    job.guards.push_back(resolve(s));
+  }
   job.filter = head.String("filter", "");
   const std::string filter_problem = RegexFilterProblem(job.filter);
   if (!filter_problem.empty()) head.Fail("filter", "bad regex: " + filter_problem);
@@ -148,11 +152,15 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   }
   if (!known) {
     std::string names;
-    for (const AlgorithmName& n : kAlgorithms) names += (names.empty() ? "" : ", ") + std::string(n.name);
-    head.Fail("algorithm", "unknown algorithm \"" + algorithm + "\" (expected one of: " + names + ")");
+    for (const AlgorithmName& n : kAlgorithms)
+      names += (names.empty() ? "" : ", ") + std::string(n.name);
+    head.Fail("algorithm",
+              "unknown algorithm \"" + algorithm + "\" (expected one of: " + names + ")");
   }
-  job.max_evaluations = static_cast<int>(head.Integer("max_evaluations", job.max_evaluations, 1, 1000000));
-  job.seed = static_cast<std::uint64_t>(head.Integer("seed", 1, 0, std::numeric_limits<long>::max()));
+  job.max_evaluations =
+      static_cast<int>(head.Integer("max_evaluations", job.max_evaluations, 1, 1000000));
+  job.seed =
+      static_cast<std::uint64_t>(head.Integer("seed", 1, 0, std::numeric_limits<long>::max()));
   job.starts = static_cast<int>(head.Integer("starts", job.starts, 1, 1000));
   job.initial_step = head.Double("initial_step", job.initial_step);
   if (!(job.initial_step > 0.0 && job.initial_step <= 1.0)) {
@@ -170,7 +178,8 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
 
   TomlReader objective = root.Table("objective");
   if (!root.Has("objective")) root.Fail("objective", "a tuning job needs an [objective] table");
-  const std::string form = objective.String("form", job.algorithm == TuneAlgorithm::kCeres ? "mean_square" : "mean");
+  const std::string form =
+      objective.String("form", job.algorithm == TuneAlgorithm::kCeres ? "mean_square" : "mean");
   if (form != "mean" && form != "mean_square") {
     objective.Fail("form", "expected \"mean\" or \"mean_square\"");
   }
@@ -196,7 +205,8 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   if (!(job.fd_step > 0.0 && job.fd_step <= 0.5)) {
     ceres.Fail("fd_step", "must lie in (0, 0.5] (a fraction of each parameter's range)");
   }
-  job.ceres_iterations = static_cast<int>(ceres.Integer("max_iterations", job.ceres_iterations, 1, 100000));
+  job.ceres_iterations =
+      static_cast<int>(ceres.Integer("max_iterations", job.ceres_iterations, 1, 100000));
   job.function_tolerance = ceres.Double("function_tolerance", job.function_tolerance);
   if (job.function_tolerance < 0.0) ceres.Fail("function_tolerance", "must be >= 0");
   ceres.Finish();
@@ -207,7 +217,8 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   for (TomlReader& p : params) {
     TuneParameter q;
     q.line = p.line();
-    q.paths = p.IsArray("path") ? p.Strings("path", {}) : std::vector<std::string>{p.String("path", "")};
+    q.paths =
+        p.IsArray("path") ? p.Strings("path", {}) : std::vector<std::string>{p.String("path", "")};
     if (q.paths.empty()) p.Fail("path", "name at least one key path");
     for (const std::string& one : q.paths) {
       std::string error;
@@ -221,7 +232,7 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
     // evaluations.csv's own columns: a parameter of the same name would make it unreadable.
     bool taken = false;
     for (const char* column : {"eval", "round", "start", "seq", "objective", "runs", "failed",
-                               "error", "wall_s"}) {
+                               "guards_run", "guard_broken", "error", "wall_s"}) {
       taken = taken || q.name == column;
     }
     for (int t = 0; t < kNumTuneTerms; ++t) taken = taken || q.name == TuneTermName(t);
@@ -258,7 +269,8 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   // default initial value.
   std::uint64_t h = Fnv1a(std::string("rabbit-tune/1 ") + RABBIT_VERSION, 0xCBF29CE484222325ULL);
   h = Fnv1a(FileText(path), h);
-  for (const ParamValue& v : job.base.values) h = Fnv1a(v.path + "=" + ExactNumber(v.value) + ";", h);
+  for (const ParamValue& v : job.base.values)
+    h = Fnv1a(v.path + "=" + ExactNumber(v.value) + ";", h);
   std::map<std::string, std::string> suite_names;  // name -> file
   for (const std::string& suite_path : job.suites) {
     h = Fnv1a(FileText(suite_path), h);
@@ -309,13 +321,38 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
       }
     }
     if (!any) {
-      throw InputError(path, 0, "job.filter", "no scenario of " + suite_path + " matches \"" + job.filter + "\"");
+      throw InputError(path, 0, "job.filter",
+                       "no scenario of " + suite_path + " matches \"" + job.filter + "\"");
+    }
+  }
+  // Guard suites: read (under the base overlay, as a candidate's are) and fingerprinted; each
+  // needs a required scenario, the only ones a guard runs.
+  std::map<std::string, std::string> guard_names;  // name -> file
+  for (const std::string& guard_path : job.guards) {
+    h = Fnv1a("guard:" + FileText(guard_path), h);
+    const Suite suite = LoadSuite(guard_path, &job.base);
+    for (const InputFile& f : HashInputFiles(SuiteInputFiles(suite))) {
+      h = Fnv1a(f.sha256, h);
+      job.inputs.push_back(f);
+    }
+    const auto [named, fresh] = guard_names.emplace(suite.name, guard_path);
+    if (!fresh) {
+      throw InputError(path, 0, "job.guards",
+                       "two guard suites named \"" + suite.name + "\" (" + named->second + " and " +
+                           guard_path + "): list each suite once");
+    }
+    bool required = false;
+    for (const Scenario& s : suite.scenarios) required = required || s.required;
+    if (!required) {
+      throw InputError(path, 0, "job.guards",
+                       guard_path + " has no required scenario: it cannot guard anything");
     }
   }
   for (const TuneParameter& q : job.parameters) {
     if (!(q.initial >= q.lower && q.initial <= q.upper)) {
       throw InputError(path, q.line, q.path,
-                       "its current value " + ExactNumber(q.initial) + " lies outside [lower, upper]: widen the bounds or give `initial`");
+                       "its current value " + ExactNumber(q.initial) +
+                           " lies outside [lower, upper]: widen the bounds or give `initial`");
     }
   }
   char fingerprint[32];

@@ -1,8 +1,10 @@
 // Tuning jobs (`rabbit tune JOB.toml`): which settings to tune, within which bounds, to minimise
 // which weighted terms over which scenario suites, with which algorithm and budget. See
-// docs/formats/tune-job.md for the file format; LoadTuneJob validates everything before anything runs.
+// docs/formats/tune-job.md for the file format; LoadTuneJob validates everything before anything
+// runs.
 //
-//   [job]        name, description, suites = [...] (relative to the job file), filter (regex on
+//   [job]        name, description, suites = [...] (relative to the job file), guards = [...]
+//                (suites whose required scenarios the best must keep passing), filter (regex on
 //                scenario names), params (a base overlay under the tuned values), algorithm,
 //                max_evaluations, seed, starts, initial_step, population, xtol_rel, ftol_rel
 //   [objective]  weights of the terms (TuneTerm), form = "mean" | "mean_square", missing.<term>
@@ -54,25 +56,35 @@ struct TuneObjective {
 };
 
 enum class TuneAlgorithm {
-  kBobyqa, kSbplx, kCobyla, kNelderMead,       // NLopt, local, derivative-free
-  kCrs2, kIsres, kEsch, kDirect, kDirectL,     // NLopt, global
-  kCeres                                       // Ceres, least squares, numeric derivatives
+  kBobyqa,
+  kSbplx,
+  kCobyla,
+  kNelderMead,  // NLopt, local, derivative-free
+  kCrs2,
+  kIsres,
+  kEsch,
+  kDirect,
+  kDirectL,  // NLopt, global
+  kCeres     // Ceres, least squares, numeric derivatives
 };
 const char* TuneAlgorithmName(TuneAlgorithm a);
 bool IsGlobal(TuneAlgorithm a);
 
 struct TuneJob {
-  std::string file;         // the job file
+  std::string file;  // the job file
   std::string name, description;
   std::vector<std::string> suites;  // paths, resolved against the job file's directory
+  // Guard suites (paths, resolved likewise): a candidate that fails a required scenario of one
+  // (main variant, under the candidate's overlay) cannot be the job's best.
+  std::vector<std::string> guards;
   std::string filter;
-  ParamOverlay base;        // the job's `params` overlay (may be empty), under the tuned values
+  ParamOverlay base;  // the job's `params` overlay (may be empty), under the tuned values
   std::vector<TuneParameter> parameters;
   TuneObjective objective;
   TuneAlgorithm algorithm = TuneAlgorithm::kBobyqa;
   int max_evaluations = 40;  // candidate evaluations, over all starts, the initial point included
   std::uint64_t seed = 1;
-  int starts = 1;            // independent searches run side by side (start 1 at the initial point)
+  int starts = 1;  // independent searches run side by side (start 1 at the initial point)
   double initial_step = 0.1;  // local algorithms' first step, a fraction of each range
   int population = 0;         // NLopt's population of CRS2, ISRES, ESCH (0: NLopt's default)
   double xtol_rel = 1e-4, ftol_rel = 0.0;
@@ -80,7 +92,7 @@ struct TuneJob {
   double fd_step = 0.02;
   int ceres_iterations = 50;
   double function_tolerance = 1e-6;
-  std::string fingerprint;  // a hash of the job, its suites and overlay files: resume checks it
+  std::string fingerprint;  // a hash of the job, its suites, guards and overlays: resume checks it
   std::vector<InputFile> inputs;  // every file the suites read, by content (in the fingerprint)
 
   // The overlay of a candidate: the base overlay, then the parameters at x.

@@ -7,6 +7,10 @@
 //     the same whatever the number of threads or ranks;
 //   - a round's runs (candidates x scenarios) are dealt over MPI ranks by index and over threads
 //     within a rank (RunBatch), and gathered back in order;
+//   - a job with guard suites runs their required scenarios for every candidate that beats its
+//     search's best eligible objective so far (as it stood before the round, so the round's
+//     guard runs go out as one batch); a candidate that fails one cannot be the best. The
+//     searches still see its objective: a guard is a constraint on the result, not a term;
 //   - every evaluation is appended to evaluations.csv (and its runs to runs.csv) as its round
 //     finishes. --resume replays the recorded evaluations (keyed by search and request number, the
 //     candidate checked bit for bit) and continues: the same result as an uninterrupted job.
@@ -49,9 +53,18 @@ struct Evaluation {
   std::array<double, kNumTuneTerms> terms{};  // per term: mean (or mean square) over the runs
   int runs = 0, failed = 0;
   std::string error;  // non-empty: invalid settings (objective kInvalidObjective, no runs)
+  // Guards (a job with guard suites): whether they were run for this candidate (it beat its
+  // search's best eligible objective so far), and the required guard scenarios it failed
+  // ("suite/scenario", joined by "; "; or why the guards could not run). Empty: it kept them.
+  bool guards_run = false;
+  std::string guard_broken;
   std::vector<RunScore> scores;
   double wall = 0.0;  // s (not deterministic)
 };
+
+// Whether an evaluation may be the job's best: any, in a job without guards; else a valid one
+// whose guards were run and kept.
+bool EligibleAsBest(const TuneJob& job, const Evaluation& e);
 
 struct TuneOptions {
   std::string out;  // output folder ("" : reports/<job name>)
@@ -68,10 +81,12 @@ struct TuneOptions {
 
 struct TuneResult {
   std::vector<Evaluation> evaluations;  // in log order (this run's shard, or all)
-  int initial = -1, best = -1;          // indices into evaluations (-1: not in this shard)
-  int replayed = 0;                     // evaluations taken from the log, not run
-  std::string out;                      // the output folder
-  bool complete = true;                 // false for a shard (best.toml not written)
+  // Indices into evaluations (-1: not in this shard). best: the lowest objective among the
+  // eligible ones (EligibleAsBest), the first of equals; -1 too when none is eligible.
+  int initial = -1, best = -1;
+  int replayed = 0;      // evaluations taken from the log, not run
+  std::string out;       // the output folder
+  bool complete = true;  // false for a shard (best.toml not written)
 };
 
 // Runs (or resumes) the job. Throws InputError for bad input (an existing log without --resume

@@ -3,6 +3,7 @@
 // best.toml and the report into the job's folder (default reports/<job name>/).
 #include <unistd.h>
 
+#include <cmath>
 #include <cstdio>
 #include <iostream>
 #include <memory>
@@ -59,11 +60,16 @@ int RunTuneCommand(TuneArgs args) {
   bool any = false;
   args.options.on_evaluation = [&](const Evaluation& e) {
     if (!talk) return;
-    if (!any || e.objective < best) best = e.objective;
-    any = true;
-    std::printf("eval %4d  search %d  objective %-12.6g best %-12.6g %d/%d runs failed%s%s\n",
-                e.index, e.start, e.objective, best, e.failed, e.runs,
-                e.error.empty() ? "" : "  invalid: ", e.error.c_str());
+    if (EligibleAsBest(job, e) && (!any || e.objective < best)) {
+      best = e.objective;
+      any = true;
+    }
+    const std::string guard = !e.guards_run            ? ""
+                              : e.guard_broken.empty() ? "  guards kept"
+                                                       : "  broke guard: " + e.guard_broken;
+    std::printf("eval %4d  search %d  objective %-12.6g best %-12.6g %d/%d runs failed%s%s%s\n",
+                e.index, e.start, e.objective, any ? best : std::nan(""), e.failed, e.runs,
+                guard.c_str(), e.error.empty() ? "" : "  invalid: ", e.error.c_str());
     std::fflush(stdout);
   };
   const TuneResult result = RunTune(job, args.options);
@@ -77,6 +83,13 @@ int RunTuneCommand(TuneArgs args) {
       return 0;
     }
     const Evaluation& initial = result.evaluations[result.initial];
+    if (result.best < 0) {
+      std::fprintf(stderr,
+                   "rabbit tune: no candidate kept the required scenarios of the guard suites "
+                   "passing: no best.toml written (see %s/evaluations.csv, column guard_broken)\n",
+                   result.out.c_str());
+      return 0;
+    }
     const Evaluation& b = result.evaluations[result.best];
     std::printf("best       objective %.6g at evaluation %d (initial %.6g, %+.1f%%)\n", b.objective,
                 b.index, initial.objective,

@@ -1,0 +1,249 @@
+// Guard suites of tuning jobs (tune_guards.h, `guards = [...]`): a candidate that fails a
+// required scenario of a guard suite is never the best (a constraint: the searches see the same
+// objectives as without guards, so the best is the lowest objective among the candidates that keep
+// the guards); the log says which candidates ran the guards and what they broke; the result does
+// not depend on the number of threads; a killed guarded job resumes to the same log; a changed
+// guard suite changes the fingerprint.
+#include <gtest/gtest.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cmath>
+#include <csignal>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <sstream>
+
+#include "rabbit/io/csv_table.h"
+#include "rabbit/io/error.h"
+#include "tune_job.h"
+#include "tuner.h"
+
+namespace rabbit {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kRoot = RABBIT_SOURCE_DIR;
+
+int RunCli(const std::string& args, std::string* output = nullptr) {
+  const std::string command = std::string(RABBIT_CLI_PATH) + " " + args + " 2>&1";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (pipe == nullptr) return -1;
+  std::string text;
+  char buffer[4096];
+  size_t n;
+  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) text.append(buffer, n);
+  const int status = pclose(pipe);
+  if (output != nullptr) *output = text;
+  if (WIFEXITED(status)) return WEXITSTATUS(status);
+  return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : -1;
+}
+
+std::string ReadText(const fs::path& path) {
+  std::ifstream in(path);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// A CSV text without its last column (wall_s: not deterministic).
+std::string WithoutLastColumn(const std::string& text) {
+  std::istringstream in(text);
+  std::string line, out;
+  while (std::getline(in, line)) out += line.substr(0, line.rfind(',')) + "\n";
+  return out;
+}
+
+class TuneGuardsTest : public ::testing::Test {
+ protected:
+  void SetUp() override {
+    dir_ = fs::temp_directory_path() /
+           ("rabbit_tune_guards_test_" + std::to_string(::getpid()) + "_" +
+            ::testing::UnitTest::GetInstance()->current_test_info()->name());
+    fs::remove_all(dir_);
+    fs::create_directories(dir_);
+    // A short walker scenario: 12 s of the ramp up (about 15 steps), two gains.
+    Write("base.toml", "[params]\n\"simulation.duration\" = 12\n\"criteria.min_steps\" = 5\n");
+  }
+  void TearDown() override { fs::remove_all(dir_); }
+  std::string Write(const std::string& name, const std::string& text) {
+    std::ofstream(dir_ / name) << text;
+    return (dir_ / name).string();
+  }
+  // A guard suite of one required scenario: the tuning scenario itself (ramp_up, under the job's
+  // base overlay, so its runs are the objective's runs) with `criteria` added; and an optional
+  // scenario that always fails (optional scenarios never break a guard).
+  std::string Guard(const std::string& criteria, const std::string& name = "guard") {
+    return Write(name + ".toml",
+                 "[suite]\nname = \"" + name +
+                     "\"\n[defaults]\nexpect_outcome = \"completed\"\nseed = 1\n"
+                     "[defaults.simulation]\nduration = 36.0\nrecord_every = 10\n"
+                     "[defaults.controller]\ntype = \"fuzzy_cmac\"\ndatabase = \"" +
+                     kRoot +
+                     "/gaits\"\nwarmup_steps = 6\nk_p = 0.2\nk_v = 0.10\nfis_v_lead = 1.0\n"
+                     "[[scenario]]\nname = \"ramp_up\"\n[scenario.criteria]\n" +
+                     criteria +
+                     "\n[scenario.velocity]\nprofile = \"steps\"\n"
+                     "points = [[0, 0.4], [6, 0.5], [12, 0.6], [18, 0.7], [24, 0.8]]\n"
+                     "[[scenario]]\nname = \"never\"\nrequired = false\n[scenario.criteria]\n"
+                     "min_distance_m = 1000\n[scenario.velocity]\nprofile = \"steps\"\n"
+                     "points = [[0, 0.4]]\n");
+  }
+  // The tuning test's small job, with `guards` (TOML array text, or "" for none).
+  std::string Job(const std::string& guards, const std::string& name = "job.toml") {
+    return Write(name, "[job]\nsuites = [\"" + kRoot +
+                           "/scenarios/tune_ramp.toml\"]\nfilter = \"^ramp_up$\"\n"
+                           "params = \"base.toml\"\nmax_evaluations = 6\n" +
+                           (guards.empty() ? "" : "guards = " + guards + "\n") +
+                           "[objective]\nspeed_error = 1.0\nfailure_rate = 0.2\n"
+                           "[[parameter]]\npath = \"controller.k_p\"\nlower = 0.0\nupper = 0.6\n"
+                           "[[parameter]]\npath = \"controller.k_v\"\nlower = 0.0\nupper = 0.4\n");
+  }
+  TuneResult Run(const std::string& job, const std::string& out, int threads = 2) {
+    TuneOptions options;
+    options.out = (dir_ / out).string();
+    options.threads = threads;
+    options.html = false;
+    return RunTune(LoadTuneJob(job), options);
+  }
+  fs::path dir_;
+};
+
+TEST_F(TuneGuardsTest, ABrokenGuardIsNeverTheBest) {
+  const TuneResult free = Run(Job(""), "free");
+  ASSERT_EQ(free.evaluations.size(), 6u);
+  ASSERT_GE(free.best, 0);
+  // A guard whose L_step spread bound the unguarded best just misses: the best breaks it.
+  double best_spread = std::numeric_limits<double>::quiet_NaN();
+  for (const RunScore& s : free.evaluations[free.best].scores)
+    best_spread = s.value[kStepLengthSpread];
+  ASSERT_TRUE(std::isfinite(best_spread));
+  const double bound = best_spread * (1.0 - 1e-9);
+  char criteria[64];
+  std::snprintf(criteria, sizeof criteria, "max_l_step_spread_m = %.17g", bound);
+  const std::string guard = Guard(criteria);
+  const TuneResult guarded = Run(Job("[\"guard.toml\"]"), "guarded");
+  ASSERT_EQ(guarded.evaluations.size(), 6u);
+  // The searches saw the same objectives: the same candidates in the same order.
+  double expected = std::numeric_limits<double>::infinity();
+  for (size_t i = 0; i < 6; ++i) {
+    const Evaluation& a = free.evaluations[i];
+    const Evaluation& b = guarded.evaluations[i];
+    EXPECT_EQ(a.x, b.x) << i;
+    EXPECT_EQ(a.objective, b.objective) << i;
+    // Independent of the tuner: a candidate keeps the guard when its (identical) run passed and
+    // its spread is within the bound.
+    const RunScore& s = a.scores.at(0);
+    const bool keeps = s.passed && s.value[kStepLengthSpread] <= bound;
+    if (keeps) expected = std::min(expected, a.objective);
+    if (b.guards_run) {
+      EXPECT_EQ(b.guard_broken.empty(), keeps) << i << ": " << b.guard_broken;
+      if (!keeps) {
+        EXPECT_EQ(b.guard_broken, "guard/ramp_up") << i;  // not the optional one
+      }
+    }
+  }
+  const Evaluation& first = guarded.evaluations[free.best];
+  EXPECT_TRUE(first.guards_run);  // the unguarded best beat every earlier candidate
+  EXPECT_EQ(first.guard_broken, "guard/ramp_up");
+  EXPECT_TRUE(guarded.evaluations[0].guards_run);  // the first candidate of a search always runs
+  if (std::isfinite(expected)) {
+    ASSERT_GE(guarded.best, 0);
+    EXPECT_NE(guarded.best, free.best);
+    EXPECT_EQ(guarded.evaluations[guarded.best].objective, expected);
+    EXPECT_TRUE(EligibleAsBest(LoadTuneJob(dir_ / "job.toml"), guarded.evaluations[guarded.best]));
+  } else {
+    EXPECT_EQ(guarded.best, -1);
+    EXPECT_FALSE(fs::exists(dir_ / "guarded" / "best.toml"));
+  }
+  // The log records it.
+  const CsvTable log = CsvTable::Read((dir_ / "guarded" / "evaluations.csv").string());
+  EXPECT_EQ(log.Integer(free.best, log.Column("guards_run")), 1);
+  EXPECT_EQ(log.Text(free.best, log.Column("guard_broken")), "guard/ramp_up");
+}
+
+TEST_F(TuneGuardsTest, NoCandidateKeepsAnImpossibleGuard) {
+  Guard("min_distance_m = 1000");  // (min_steps: the base overlay sets it)
+  std::string output;
+  const std::string out = (dir_ / "out").string();
+  ASSERT_EQ(RunCli("tune " + Job("[\"guard.toml\"]") + " --out " + out + " -j 2", &output), 0)
+      << output;
+  EXPECT_NE(output.find("no candidate kept the required scenarios of the guard suites"),
+            std::string::npos)
+      << output;
+  EXPECT_FALSE(fs::exists(fs::path(out) / "best.toml"));
+  // Every valid candidate beats the best eligible objective (none): each ran the guards.
+  const CsvTable log = CsvTable::Read(out + "/evaluations.csv");
+  ASSERT_EQ(log.num_rows(), 6u);
+  for (size_t r = 0; r < log.num_rows(); ++r) {
+    EXPECT_EQ(log.Integer(r, log.Column("guards_run")), 1) << r;
+    EXPECT_EQ(log.Text(r, log.Column("guard_broken")), "guard/ramp_up") << r;
+  }
+  // The page says so, and lists the candidates that broke a guard.
+  const std::string page = ReadText(fs::path(out) / "index.html");
+  EXPECT_NE(page.find("no candidate kept them"), std::string::npos);
+  EXPECT_NE(page.find("<tr class=\"guard\"><td><a href=\"#eval-5\">5</a>"), std::string::npos);
+}
+
+TEST_F(TuneGuardsTest, ThreadsDoNotChangeTheGuardedLog) {
+  Guard("max_l_step_spread_m = 0.02");
+  const std::string job = Job("[\"guard.toml\"]");
+  const TuneResult a = Run(job, "one", 1), b = Run(job, "two", 2);
+  EXPECT_EQ(a.best, b.best);
+  EXPECT_EQ(WithoutLastColumn(ReadText(dir_ / "one" / "evaluations.csv")),
+            WithoutLastColumn(ReadText(dir_ / "two" / "evaluations.csv")));
+  EXPECT_EQ(ReadText(dir_ / "one" / "runs.csv"), ReadText(dir_ / "two" / "runs.csv"));
+  int guarded = 0;
+  for (const Evaluation& e : a.evaluations) guarded += e.guards_run ? 1 : 0;
+  EXPECT_GE(guarded, 1);
+}
+
+TEST_F(TuneGuardsTest, AKilledGuardedJobResumesToTheSameLog) {
+  Guard("max_l_step_spread_m = 0.02");
+  const std::string job = Job("[\"guard.toml\"]");
+  const std::string whole = (dir_ / "whole").string(), cut = (dir_ / "cut").string();
+  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + whole), 0);
+  const std::string command = "RABBIT_TUNE_KILL_AFTER=3 " + std::string(RABBIT_CLI_PATH) +
+                              " tune " + job + " -q --no-html --out " + cut + " > /dev/null 2>&1";
+  const int killed = std::system(command.c_str());
+  EXPECT_TRUE(WIFSIGNALED(killed) || (WIFEXITED(killed) && WEXITSTATUS(killed) == 128 + SIGKILL))
+      << killed;
+  std::string output;
+  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + cut, &output), 0) << output;
+  EXPECT_NE(output.find("replayed   3 evaluations"), std::string::npos) << output;
+  EXPECT_EQ(WithoutLastColumn(ReadText(fs::path(cut) / "evaluations.csv")),
+            WithoutLastColumn(ReadText(fs::path(whole) / "evaluations.csv")));
+  EXPECT_EQ(ReadText(fs::path(cut) / "best.toml"), ReadText(fs::path(whole) / "best.toml"));
+  // A changed guard suite is another job: its fingerprint differs, the log is not resumed.
+  Guard("max_l_step_spread_m = 0.03");
+  EXPECT_EQ(RunCli("tune " + job + " --no-html --resume --out " + cut, &output), 2);
+  EXPECT_NE(output.find("fingerprint"), std::string::npos) << output;
+}
+
+TEST_F(TuneGuardsTest, BadGuardsAreInputErrors) {
+  auto expect_error = [&](const std::string& guards, const std::string& fragment) {
+    try {
+      LoadTuneJob(Job(guards));
+      ADD_FAILURE() << "no error for " << guards;
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.key().rfind("job.guards", 0), 0u) << e.what();
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  expect_error("[\"\"]", "an empty path");
+  std::string optional = ReadText(Guard("min_steps = 1", "optional"));
+  optional.replace(optional.find("name = \"ramp_up\""), 16, "name = \"ramp_up\"\nrequired = false");
+  Write("optional.toml", optional);
+  expect_error("[\"optional.toml\"]", "no required scenario");
+  Guard("min_steps = 1", "twice");
+  expect_error("[\"twice.toml\", \"twice.toml\"]", "two guard suites named");
+  // A missing guard suite names its file.
+  EXPECT_THROW(LoadTuneJob(Job("[\"missing.toml\"]")), InputError);
+}
+
+}  // namespace
+}  // namespace rabbit
