@@ -31,6 +31,7 @@
 #include "rabbit/control/pragmatic_rules.h"
 #include "rabbit/control/step_planner.h"
 #include "rabbit/control/push_recovery.h"
+#include "rabbit/control/stall_recovery.h"
 #include "rabbit/learn/fuzzy_cmac.h"
 #include "rabbit/learn/swing_pattern.h"
 #include "rabbit/sim/controller.h"
@@ -126,6 +127,8 @@ struct WalkerParams {
   PragmaticParams warmup;
   // Push recovery (push_recovery.h; keys of [controller.recovery]).
   RecoveryParams recovery;
+  // Stall recovery (stall_recovery.h; keys of [controller.stall_recovery]).
+  StallRecoveryParams stall_recovery;
   // Keep the tracking log (references and measurements) every n-th control period (0: none).
   int log_every = 1;
   bool IsValid(std::string* error) const;
@@ -197,6 +200,7 @@ class FuzzyCmacWalker final : public Controller {
   GaitMeter meter_;
   PragmaticController warmup_;
   PushRecovery recovery_;
+  StallRecovery stall_;
   bool warming_up_;
   int stance_;
   double q0_d_;

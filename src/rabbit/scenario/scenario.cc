@@ -16,6 +16,7 @@
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/learn/fll.h"
 #include "rabbit/scenario/params.h"
+#include "rabbit/scenario/stall_recovery_keys.h"
 
 namespace rabbit {
 namespace {
@@ -685,6 +686,9 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
   w.lift_feedback = t->Bool("lift_feedback", w.lift_feedback);
   w.lift_keeps_rules = t->Bool("lift_keeps_rules", w.lift_keeps_rules);
   ReadRecovery(t->Table("recovery"), &w.recovery);
+  ReadStallRecovery(t->Table("stall_recovery"), &w.stall_recovery);
+  w.stall_recovery.thigh_length = s->model.thigh_length;
+  w.stall_recovery.shin_length = s->model.shin_length;
   w.thigh_length = s->model.thigh_length;
   w.shin_length = s->model.shin_length;
   {
