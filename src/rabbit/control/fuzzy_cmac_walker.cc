@@ -143,6 +143,7 @@ bool WalkerParams::IsValid(std::string* error) const {
   if (!recovery.IsValid(error)) return false;
   if (!slope.IsValid(error)) return false;
   if (!velocity_control.IsValid(error)) return false;
+  if (!stall_recovery.IsValid(error)) return false;
   if (log_every < 0) {
     *error = "log_every must be >= 0";
     return false;
@@ -170,6 +171,7 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
       warmup_(params.warmup, stance_leg),
       recovery_(params.recovery),
       slope_(params.slope),
+      stall_(params.stall_recovery),
       warming_up_(params.warmup_steps > 0),
       stance_(stance_leg),
       q0_d_(params.q0_d_initial),
@@ -466,6 +468,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     recovery_.OnTouchdown(obs.t, meter_.last_step().t_step);
   }
   recovery_.Observe(obs, stance_);
+  stall_.Observe(obs, !warming_up_);
   if (warming_up_) {
     const Vec4 tau = warmup_.Compute(obs);
     // The rules are in charge: their stance leg is the walker's (they exchange support on any
@@ -500,12 +503,14 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     lift_t_ = -1.0;
   }
   ref[0] += recovery_.SwingOffset(obs.t);
+  stall_.Apply(obs, stance_, &ref);
   Vec4 tau;
   double share = 0.0;
   Eigen::Vector2d rules = Eigen::Vector2d::Zero();
   // The foot lift acts through the PD references: while it is armed (the step over and the
   // trailing leg's step) the swing is tracked, whatever the rule share, unless lift_keeps_rules.
-  if (!p_.rule_share.empty() && !(lift_armed_ && !p_.lift_keeps_rules)) {
+  if (!p_.rule_share.empty() && !(lift_armed_ && !p_.lift_keeps_rules) && !stall_.Active(obs.t) &&
+      !stall_.Catching(obs, stance_)) {
     rules = RuleTorques(obs, &share);
   }
   tau[2 * sw] = rules[0] + (1.0 - share) * (p_.hip_kp * (ref[0] - q[sw_hip]) +
@@ -522,8 +527,9 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
       knee_kd += w[k] * p_.rule_share[k] * p_.gait_rules[k].knee_kd;
     }
   }
-  tau[2 * st + 1] = -knee_kp * q[st_hip + 1] - knee_kd * qd[st_hip + 1];
-  const double q0_d = q0_d_ + recovery_.TrunkOffset(obs.t) + slope_.TrunkOffset();
+  tau[2 * st + 1] = knee_kp * (stall_.StanceKnee(obs.t) - q[st_hip + 1]) - knee_kd * qd[st_hip + 1];
+  const double q0_d =
+      q0_d_ + recovery_.TrunkOffset(obs.t) + slope_.TrunkOffset() + stall_.TrunkOffset(obs.t);
   tau[2 * st] = p_.trunk_kp * (q0_d - q[kQ0]) - p_.trunk_kd * qd[kQ0];
   if (!tau.allFinite()) tau.setZero();  // NaN measurements: no torque (the run reports the fall)
   if (p_.log_every > 0 && periods_ % p_.log_every == 0) {

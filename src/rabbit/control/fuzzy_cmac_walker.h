@@ -32,6 +32,7 @@
 #include "rabbit/control/pragmatic_rules.h"
 #include "rabbit/control/push_recovery.h"
 #include "rabbit/control/slope_adaptation.h"
+#include "rabbit/control/stall_recovery.h"
 #include "rabbit/control/step_planner.h"
 #include "rabbit/control/velocity_control.h"
 #include "rabbit/learn/fuzzy_cmac.h"
@@ -136,6 +137,8 @@ struct WalkerParams {
   // its pitch map (set by the scenario runner from the gait database, not a key).
   VelocityControlParams velocity_control;
   std::vector<std::pair<double, double>> gait_pitches;
+  // Stall recovery (stall_recovery.h; keys of [controller.stall_recovery]).
+  StallRecoveryParams stall_recovery;
   // Keep the tracking log (references and measurements) every n-th control period (0: none).
   int log_every = 1;
   bool IsValid(std::string* error) const;
@@ -208,6 +211,7 @@ class FuzzyCmacWalker final : public Controller {
   PragmaticController warmup_;
   PushRecovery recovery_;
   SlopeAdaptation slope_;
+  StallRecovery stall_;
   bool warming_up_;
   int stance_;
   double q0_d_;

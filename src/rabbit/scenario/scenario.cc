@@ -20,6 +20,7 @@
 #include "rabbit/learn/fll.h"
 #include "rabbit/scenario/params.h"
 #include "rabbit/scenario/slope_keys.h"
+#include "rabbit/scenario/stall_recovery_keys.h"
 
 namespace rabbit {
 namespace {
@@ -695,6 +696,9 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   ReadRecovery(t->Table("recovery"), &w.recovery);
   ReadSlopeKeys(t->Table("slope"), &w.slope);
   ReadVelocityControl(t->Table("velocity_control"), &w.velocity_control);
+  ReadStallRecovery(t->Table("stall_recovery"), &w.stall_recovery);
+  w.stall_recovery.thigh_length = model.thigh_length;
+  w.stall_recovery.shin_length = model.shin_length;
   w.thigh_length = model.thigh_length;
   w.shin_length = model.shin_length;
   {
