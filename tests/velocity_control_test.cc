@@ -168,7 +168,7 @@ class VelocityControlKeysTest : public ::testing::Test {
 
 TEST_F(VelocityControlKeysTest, ReadAndValidated) {
   const Suite off = LoadSuite(Write(""));
-  EXPECT_FALSE(off.scenarios[0].walker.velocity_control.enabled);  // the default
+  EXPECT_TRUE(off.scenarios[0].walker.velocity_control.enabled);  // the adaptive preset's
   const Suite suite = LoadSuite(
       Write("enabled = true\nv_d_rate = 0.2\nfeedforward_gain = 0.25\nstart_at_map = false\n"
             "pitch_map_deg = [[0.4, 0.0], [0.8, 18.0]]\n"));

@@ -58,6 +58,12 @@ TEST(WalkerPresets, TheChapterDiffersFromTheAdaptiveWalkerOnlyWhereDocumented) {
   const WalkerParams c = PresetWalkerParams(WalkerPreset::kChapter);
   EXPECT_TRUE(a.planner.enabled);
   EXPECT_FALSE(c.planner.enabled);
+  EXPECT_TRUE(a.slope.enabled);
+  EXPECT_FALSE(c.slope.enabled);
+  EXPECT_TRUE(a.velocity_control.enabled);
+  EXPECT_FALSE(c.velocity_control.enabled);
+  EXPECT_FALSE(a.stall_recovery.enabled);
+  EXPECT_FALSE(c.stall_recovery.enabled);
   EXPECT_FALSE(a.lift_keeps_rules);
   EXPECT_TRUE(c.lift_keeps_rules);
   EXPECT_EQ(a.fis_v_lead, 1.0);

@@ -32,8 +32,9 @@ namespace rabbit {
 
 struct VelocityControlParams {
   bool enabled = false;           // false: the chapter's law alone (V_c = V_d)
-  double v_d_rate = 0.15;         // m/s per step: the largest change of V_c at a touchdown
-  double feedforward_gain = 1.0;  // share of the map's pitch change applied at once
+  // Defaults: the best of the variants measured on the training families (docs/design.md).
+  double v_d_rate = 0.1;          // m/s per step: the largest change of V_c at a touchdown
+  double feedforward_gain = 0.5;  // share of the map's pitch change applied at once
   // The map P as (V in m/s, q0_d in rad) points (made non-decreasing); empty: the reference
   // gaits' (measured V_M, q0_d) from the gait database.
   std::vector<std::pair<double, double>> pitch_map;

@@ -2,7 +2,8 @@
 // every key the scenario sets is then read over it.
 //   adaptive  (the default) the best shipped walker: the chapter's control strategy with every
 //             mechanism this project adds that holds up on the training families (step planner,
-//             push recovery, the FIS fed with the desired velocity, ...).
+//             push recovery, slope adaptation, velocity control with a trunk-led transition,
+//             the FIS fed with the desired velocity).
 //   chapter   the walker that reproduces the chapter's section 6 (the paper suite): its control
 //             strategy with only the departures its figures need (docs/design.md, "The walker"):
 //             no step planner and none of the robustness mechanisms.
