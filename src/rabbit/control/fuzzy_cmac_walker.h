@@ -73,7 +73,8 @@ struct WalkerParams {
   // measured steps (1: the chapter's per-step value; 2: one step of each leg, a stride). The legs'
   // steps alternate by a few cm/s, which would otherwise drive the fuzzy blend step by step.
   int v_m_average_steps = 2;
-  // Velocity given to the FIS: V_M + fis_v_lead (V_d - V_M) (0: the chapter's V_M; 1: V_d). With
+  // Velocity given to the FIS: V_M + fis_v_lead (V_d - V_M) (0: the chapter's V_M; 1: V_d; with
+  // velocity_control enabled its rate-limited command V_c takes the place of V_d). With
   // a lead the gait pattern moves toward the gait of the desired velocity before the trunk pitch
   // has brought V_M there (the fast gaits' longer steps are what makes the robot fast).
   double fis_v_lead = 0.0;

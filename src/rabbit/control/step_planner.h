@@ -31,9 +31,10 @@ namespace rabbit {
 
 struct StepPlannerParams {
   // false: the walker as the chapter's (Table 3 alone). The scenario key `enabled` defaults to
-  // true (scenario.cc, kPlannerEnabledByDefault); a WalkerParams built in code starts without it.
+  // the preset's (walker_presets.cc: on in `adaptive`, off in `chapter`); a WalkerParams built in
+  // code starts without it.
   bool enabled = false;
-  double horizon = 1.5;         // m: d_obs within which the planner takes over the step length
+  double horizon = 1.5;  // m: d_obs within which the planner takes over the step length
   // Blend only the gaits the walker tracks (rule share below 1/2; all when there is no rule
   // share). Off by default: on the training families it changed nothing for one obstacle and cost
   // obstacle rows (docs/design.md, "The step planner").

@@ -31,7 +31,7 @@
 namespace rabbit {
 
 struct VelocityControlParams {
-  bool enabled = false;           // false: the chapter's law alone (V_c = V_d)
+  bool enabled = false;  // false: the chapter's law alone (V_c = V_d)
   // Defaults: the best of the variants measured on the training families (docs/design.md).
   double v_d_rate = 0.1;          // m/s per step: the largest change of V_c at a touchdown
   double feedforward_gain = 0.5;  // share of the map's pitch change applied at once
@@ -71,7 +71,8 @@ class VelocityControl {
   double Command(double v_d);
   // The law at a touchdown whose step was measured (V_M in m/s, t_step in s) outside the warm-up:
   // returns the new q0_d. `extra` (rad) joins the step's change of q0_d before the clamp (the
-  // slope adaptation's braking).
+  // slope adaptation's braking); the first update with start_at_map sets q0_d = P(V_c) and
+  // ignores it.
   double Update(double v_m, double t_step, double extra = 0.0);
   double q0_d() const { return q0_d_; }
   double command() const { return v_c_; }

@@ -6,7 +6,8 @@
 //             the FIS fed with the desired velocity).
 //   chapter   the walker that reproduces the chapter's section 6 (the paper suite): its control
 //             strategy with only the departures its figures need (docs/design.md, "The walker"):
-//             no step planner and none of the robustness mechanisms.
+//             no step planner, no slope adaptation, the chapter's q0_d law (push recovery stays
+//             on, as the paper suite has always run it).
 #ifndef RABBIT_CONTROL_WALKER_PRESETS_H_
 #define RABBIT_CONTROL_WALKER_PRESETS_H_
 

@@ -25,7 +25,9 @@ class PushSchedule {
   const std::vector<double>& starts() const { return start_; }
   int touchdowns() const { return static_cast<int>(touchdown_t_.size()); }
 
-  static constexpr double kMinAirTime = 0.05;  // s, GaitMeter::min_air_time
+  // s: the gait meter's default min_air_time; touchdowns are counted as steps.csv counts them
+  // while the meter keeps that default.
+  static constexpr double kMinAirTime = 0.05;
 
  private:
   const std::vector<TrunkPush>* pushes_;
