@@ -126,7 +126,8 @@ TEST(PushScheduleTest, AHipTimedPushDeliversItsImpulseInTheSimulator) {
   ASSERT_EQ(r.push_starts.size(), 1u);
   EXPECT_NEAR(r.push_starts[0], 0.25, 1.5 * setup.options.control_period);
   // Momentum of the centre of mass from finite differences before and after the push.
-  auto momentum = [&](double t0, double t1) {
+  // Vec2, not auto: the expression would refer to the centres of mass after they are gone.
+  auto momentum = [&](double t0, double t1) -> Vec2 {
     const SimSample* a = nullptr;
     const SimSample* b = nullptr;
     for (const SimSample& s : r.samples) {
