@@ -252,7 +252,7 @@ TEST_F(FamilyDrawsTest, BadEntriesNameTheirKey) {
   ExpectError(head + "[family.draw]\nz = 0.0\n", "family[1].draw.z", "expected [low, high]");
   ExpectError(
       head + "[family.draw]\nz = [0.0, 0.0]\n[family.vary]\n\"push.1.start\" = \"=1 / z\"\n",
-      "family[1].vary", "division by zero");
+      "family[1].vary.push.1.start", "\"=1 / z\": division by zero");
   ExpectError(head + "[family.draw]\nk = { range = [0.5, 3], integer = true }\n",
               "family[1].draw.k.range", "whole-number bounds");
   ExpectError(head + "[family.vary]\n\"velocity.changes\" = { count = [3, 5], v = [0.3, 1.0] }\n",

@@ -566,7 +566,7 @@ std::vector<Case> Cases() {
       {"family expression dividing by zero",
        "[[family.scenario.push]]\nstart = 1.0\n[family.draw]\nz = [0, 0]\n[family.vary]\n"
        "\"push.1.start\" = \"=1 / z\"\n",
-       "{D}/s.toml", "'family[1].vary'", "division by zero"},
+       "{D}/s.toml:11", "'family[1].vary.push.1.start'", "division by zero"},
       {"family draws in a circle", "[family.draw]\na = \"=b\"\nb = \"=a\"\n", "{D}/s.toml:7",
        "'family[1].draw.a'", "in a circle"},
       {"family velocity.changes count = 200",

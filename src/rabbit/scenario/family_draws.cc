@@ -354,7 +354,7 @@ FamilyDrawSpec ReadFamilyDrawSpec(TomlReader* draw, TomlReader* vary) {
 }
 
 bool DrawMember(const FamilyDrawSpec& spec, std::uint64_t family_seed, int member, MemberDraws* out,
-                std::string* error) {
+                std::string* error, std::string* failed_key) {
   *out = MemberDraws();
   for (const DrawSpec& d : spec.draws) {
     double value = 0.0;
@@ -400,6 +400,7 @@ bool DrawMember(const FamilyDrawSpec& spec, std::uint64_t family_seed, int membe
     if (d.expression.empty()) {
       value = Draw(family_seed, member, d.name, d.range);
     } else if (!EvaluateDrawExpression(d.expression, out->names, &value, error)) {
+      if (failed_key != nullptr) *failed_key = d.name;
       return false;
     }
     out->keys.emplace_back(d.name, value);

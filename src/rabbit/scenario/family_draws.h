@@ -71,10 +71,11 @@ struct MemberDraws {
   std::vector<std::pair<std::string, double>> keys;
 };
 
-// Draws member `member`'s values. Returns false with a message (naming the draw) in *error when
-// an expression cannot be evaluated (a division by zero, say).
+// Draws member `member`'s values. Returns false with a message (naming the draw or the varied
+// key and its expression) in *error when an expression cannot be evaluated (a division by zero,
+// say); when it is a varied key's, that key goes to *failed_key (if given).
 bool DrawMember(const FamilyDrawSpec& spec, std::uint64_t family_seed, int member, MemberDraws* out,
-                std::string* error);
+                std::string* error, std::string* failed_key = nullptr);
 
 }  // namespace rabbit
 

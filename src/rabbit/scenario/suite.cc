@@ -279,8 +279,9 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
       }
       MemberDraws drawn;
       std::string error;
-      if (!DrawMember(spec, seed, i, &drawn, &error)) {
-        vary.Fail("", "member " + name + member + ": " + error);
+      std::string failed_key;  // the [family.vary] key whose expression failed, if one did
+      if (!DrawMember(spec, seed, i, &drawn, &error, &failed_key)) {
+        vary.Fail(failed_key, "member " + name + member + ": " + error);
       }
       if (spec.changes.present) SetVelocity(base, drawn, overrides.get());
       for (const auto& [key, value] : drawn.keys) {
