@@ -126,6 +126,13 @@ TEST_F(GaitTargetsTest, TheShippedTargetsAreSpeedGaitsAndLibraryCells) {
     }
   }
   EXPECT_EQ(speed, 8);
+  // The library's speed gaits are the shipped targets' (starts and walker settings included).
+  const std::vector<GaitTarget> shipped =
+      ReadGaitTargets(std::string(RABBIT_SOURCE_DIR) + "/gaits/targets.toml").gaits;
+  for (size_t i = 0; i < shipped.size() && i < t.size(); ++i) {
+    EXPECT_EQ(TargetInputsText(t[i]), TargetInputsText(shipped[i])) << shipped[i].name;
+    EXPECT_EQ(t[i].walker.rule_share, shipped[i].walker.rule_share) << shipped[i].name;
+  }
   int speeds_with_three = 0;
   for (const auto& [v, n] : step_lengths) speeds_with_three += n >= 3 ? 1 : 0;
   EXPECT_GE(speeds_with_three, 5);
