@@ -38,8 +38,8 @@ std::string ManifestText(const Manifest& manifest);  // rows in the given order
 // line, unknown columns or kinds, a bad hash, a path leaving the root, a file listed twice.
 Manifest ReadManifest(const std::string& path);
 // Checks that every file the manifest lists exists under root with its hash, and that root holds
-// no file it does not list (but README.md and targets.toml). Throws InputError naming the first
-// disagreement.
+// no file it does not list (but README.md and targets files, *.toml, at the root). Throws
+// InputError naming the first disagreement.
 void VerifyManifest(const Manifest& manifest, const std::string& root,
                     const std::string& manifest_path);
 

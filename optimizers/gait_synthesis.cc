@@ -219,6 +219,16 @@ bool SynthesisOptions::IsValid(std::string* error) const {
       return false;
     }
   }
+  for (int i = 0; i < kDim; ++i) {
+    if (!start[i]) continue;
+    if (!(std::isfinite(*start[i]) && *start[i] >= bounds[i].first &&
+          *start[i] <= bounds[i].second)) {
+      char range[64];
+      std::snprintf(range, sizeof range, "[%g, %g]", bounds[i].first, bounds[i].second);
+      *error = std::string("start of ") + kParams[i].name + ": must lie within its bounds " + range;
+      return false;
+    }
+  }
   if (!(std::isfinite(target_v_m) && target_v_m > 0.05 && target_v_m < 2.0)) {
     *error = "target velocity must be in (0.05, 2) m/s";
     return false;
@@ -253,6 +263,19 @@ GaitSpec InitialGaitSpec(double v) {
   spec.rules.q0_d = std::clamp(lerp(3), -4.0, 24.0) * kDeg;
   spec.start_speed = v;
   return spec;
+}
+
+GaitSpec StartGaitSpec(const SynthesisOptions& options) {
+  GaitSpec spec = InitialGaitSpec(options.target_v_m);
+  for (int i = 0; i < kDim; ++i) {
+    if (options.start[i]) *kParams[i].field(&spec) = *options.start[i] * kParams[i].scale;
+  }
+  return spec;
+}
+
+double SynthesisParamValue(const GaitSpec& spec, int i) {
+  GaitSpec copy = spec;
+  return *kParams[i].field(&copy) / kParams[i].scale;
 }
 
 double GaitCost(const GaitMetrics& m, const SynthesisOptions& o) {
@@ -362,14 +385,28 @@ SynthesisResult SynthesizeGait(const SimSetup& setup, const SynthesisOptions& op
   search.setup = &setup;
   search.options = &options;
   search.progress = &progress;
-  search.base = InitialGaitSpec(options.target_v_m);
+  search.base = StartGaitSpec(options);
   search.best_spec = search.base;
   const nlopt_algorithm local =
       options.local_algorithm == "bobyqa" ? NLOPT_LN_BOBYQA : NLOPT_LN_SBPLX;
   nlopt_srand(options.seed);
 
+  // A given start is walked first exactly as given (unit coordinates would round it): when it
+  // meets the criteria it is the result, and the stages below do not run.
+  const bool has_start = std::any_of(options.start.begin(), options.start.end(),
+                                     [](const std::optional<double>& v) { return v.has_value(); });
+  if (has_start) {
+    const GaitRun run = WalkGait(setup, search.base, options.walk_duration, options.window);
+    ++search.walks;
+    ++search.evaluations;
+    search.stage = "start";
+    search.best_cost = GaitCost(run.metrics, options);
+    search.best_metrics = run.metrics;
+  }
   std::vector<double> x = ToUnit(search.base, options.bounds);
-  RunStage(local, "local", options.budget / 3, &x, &search);
+  if (!has_start || !MeetsCriteria(search.best_metrics, options)) {
+    RunStage(local, "local", options.budget / 3 - search.evaluations, &x, &search);
+  }
   if (!MeetsCriteria(search.best_metrics, options)) {
     x = ToUnit(search.best_spec, options.bounds);
     const int budget = options.budget / 2;

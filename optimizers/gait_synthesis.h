@@ -10,6 +10,7 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -38,6 +39,10 @@ struct SynthesisOptions {
   double max_l_spread = 0.008;  // m, step-to-step variation of L_step over the window
   // Search box, per parameter of kSynthesisParamNames (lower < upper).
   std::array<std::pair<double, double>, kSynthesisParams> bounds = DefaultSynthesisBounds();
+  // The search's starting point, per parameter of kSynthesisParamNames (in the units of
+  // `bounds`, within them); an unset one starts at InitialGaitSpec's value. When any is set, the
+  // start itself is walked first, exactly as given, and is the result if it meets the criteria.
+  std::array<std::optional<double>, kSynthesisParams> start{};
   // Walks evaluated at once (1: all on the calling thread). The result does not depend on it.
   int threads = 1;
   bool IsValid(std::string* error) const;
@@ -67,6 +72,11 @@ struct SynthesisResult {
 // The starting point: Table 2's (qr1_dsw, qi2_dsw, q0_d) interpolated (or extrapolated) at v, with
 // the default pulse and gains.
 GaitSpec InitialGaitSpec(double target_v_m);
+// The search's starting point for `options`: InitialGaitSpec(target_v_m) with options.start's
+// values over it.
+GaitSpec StartGaitSpec(const SynthesisOptions& options);
+// The value of searched parameter i in `spec`, in the units of SynthesisOptions::bounds.
+double SynthesisParamValue(const GaitSpec& spec, int i);
 
 // The objective's value for one walk of options.walk_duration seconds (lower is better):
 //   did not walk (fell, or fewer than window + 2 steps): 1000 + 500 (1 - time walked / duration)

@@ -41,6 +41,27 @@ void ReadBounds(TomlReader& t, Bounds* bounds) {
   b.Finish();
 }
 
+// A target's `start` table: `name = value` for any of kSynthesisParamNames (checked against the
+// target's bounds by SynthesisOptions::IsValid).
+void ReadStart(TomlReader& t, SynthesisOptions* o) {
+  if (!t.Has("start")) return;
+  TomlReader s = t.Table("start");
+  for (int i = 0; i < kSynthesisParams; ++i) {
+    const char* name = kSynthesisParamNames[i];
+    if (!s.Has(name)) {
+      s.Double(name, 0.0);  // known to Finish(), so that a typo lists every name
+      continue;
+    }
+    o->start[i] = s.Double(name, 0.0);
+    SynthesisOptions check;
+    check.bounds = o->bounds;
+    check.start[i] = o->start[i];
+    std::string error;
+    if (!check.IsValid(&error)) s.Fail(name, error);
+  }
+  s.Finish();
+}
+
 std::string Resolve(const TomlReader& t, const std::string& path) {
   const std::filesystem::path p(path);
   return p.is_absolute() ? path
@@ -98,6 +119,7 @@ GaitTargets ReadGaitTargets(const std::string& path) {
     SynthesisOptions& o = g.synthesis;
     o.bounds = common;
     ReadBounds(t, &o.bounds);
+    ReadStart(t, &o);
     o.target_v_m = t.RequiredDouble("v_m");
     o.target_l_step = t.Double("l_step", 0.0);
     o.seed = static_cast<unsigned>(t.Integer("seed", o.seed, 0, 4294967295L));
@@ -167,6 +189,12 @@ std::string TargetInputsText(const GaitTarget& g) {
   for (int i = 0; i < kSynthesisParams; ++i) {
     text += std::string("bounds ") + kSynthesisParamNames[i] + " " +
             ExactNumber(o.bounds[i].first) + " " + ExactNumber(o.bounds[i].second) + "\n";
+  }
+  for (int i = 0; i < kSynthesisParams; ++i) {
+    if (o.start[i]) {
+      text +=
+          std::string("start ") + kSynthesisParamNames[i] + " " + ExactNumber(*o.start[i]) + "\n";
+    }
   }
   return text;
 }

@@ -14,6 +14,8 @@
 //   seed = 1                    the global stage's seed
 //   budget = 1500               walks at most
 //   [gait.bounds]               name = [lower, upper] for any searched parameter
+//   [gait.start]                name = value: where the search starts, for any searched
+//                               parameter (within the bounds; the others: Table 2's values)
 //   [gait.walker]               per-gait walker settings (walker_settings.h): rule_share = 0
 // Relative paths resolve against the targets file's folder (docs/gait-database.md).
 #ifndef RABBIT_OPTIMIZERS_GAIT_TARGETS_H_
@@ -32,7 +34,7 @@ namespace rabbit {
 struct GaitTarget {
   std::string name;  // the gait's name in the database (its file is name.csv)
   GaitRole role = GaitRole::kSpeed;
-  SynthesisOptions synthesis;  // target_v_m, target_l_step, seed, budget, bounds
+  SynthesisOptions synthesis;  // target_v_m, target_l_step, seed, budget, bounds, start
   GaitWalkerSettings walker;
   int line = 0;  // of its [[gait]] in the targets file (0: not from a file)
 };

@@ -40,7 +40,6 @@ namespace fs = std::filesystem;
 
 const std::string kRoot = RABBIT_SOURCE_DIR;
 
-
 std::string Relative(const fs::path& path) { return fs::relative(path, kRoot).generic_string(); }
 
 std::vector<fs::path> Files(const std::string& dir, const std::string& extension, bool recursive) {
@@ -170,14 +169,21 @@ void RecordTargetKeys(std::map<std::string, std::string>* keys) {
     bounds += std::string(kSynthesisParamNames[i]) + " = [" + std::to_string(defaults[i].first) +
               ", " + std::to_string(defaults[i].second) + "]\n";
   }
-  const std::array<std::string, 4> tables = {"", "bounds", "gait[]", "gait[].bounds"};
+  std::string start;  // a valid start for every parameter: its default lower bound
+  for (int i = 0; i < kSynthesisParams; ++i) {
+    start +=
+        std::string(kSynthesisParamNames[i]) + " = " + std::to_string(defaults[i].first) + "\n";
+  }
+  const std::array<std::string, 5> tables = {"", "bounds", "gait[]", "gait[].bounds",
+                                             "gait[].start"};
   for (const std::string& probe_in : tables) {
     auto probe = [&](const std::string& table) {
       return table == probe_in ? std::string("zz_probe = 1\n") : std::string();
     };
     const std::string text = probe("") + "[bounds]\n" + bounds + probe("bounds") +
                              "[[gait]]\nv_m = 0.5\nl_step = 0.3\nseed = 1\nbudget = 10\n" +
-                             probe("gait[]") + "[gait.bounds]\n" + bounds + probe("gait[].bounds");
+                             probe("gait[]") + "[gait.bounds]\n" + bounds + probe("gait[].bounds") +
+                             "[gait.start]\n" + start + probe("gait[].start");
     const fs::path file = dir / "targets.toml";
     std::ofstream(file) << text;
     const std::string output =
@@ -303,9 +309,7 @@ std::set<std::string> Anchors(const fs::path& file) {
   return anchors;
 }
 
-bool ExistsInRepo(const std::string& relative) {
-  return fs::exists(fs::path(kRoot) / relative);
-}
+bool ExistsInRepo(const std::string& relative) { return fs::exists(fs::path(kRoot) / relative); }
 
 TEST(DocsTest, ProductDocsCiteNoIssueNumberAndOnlyFilesThatExist) {
   const std::regex issue("\\bissues?\\s*#?\\s*[0-9]+", std::regex::icase);

@@ -1,5 +1,6 @@
 // NLopt gait synthesis on a small budget: deterministic for a seed, never worse than its start,
-// and the objective ranks walks as documented.
+// a given start that meets the criteria is the result in one walk, and the objective ranks walks
+// as documented.
 #include "gait_synthesis.h"
 
 #include <gtest/gtest.h>
@@ -67,6 +68,70 @@ TEST(GaitSynthesisTest, InvalidOptionsAreRefused) {
   o = SynthesisOptions{};
   o.local_algorithm = "simplex";
   EXPECT_FALSE(o.IsValid(&error));
+  o = SynthesisOptions{};
+  o.start[2] = 20.0;  // q0_d_deg, beyond the default upper bound 15
+  EXPECT_FALSE(o.IsValid(&error));
+  EXPECT_NE(error.find("start of q0_d_deg"), std::string::npos) << error;
+  o.bounds[2] = {-5.0, 25.0};
+  EXPECT_TRUE(o.IsValid(&error)) << error;
+}
+
+// The parameters of the shipped vm_0.40 (gaits/targets.toml's start for it): a gait at 0.39 m/s
+// and L_step 0.243 m.
+SynthesisOptions ShippedStartAt040() {
+  SynthesisOptions o;
+  o.target_v_m = 0.4;
+  o.target_l_step = 0.24;
+  const double start[kSynthesisParams] = {20, -4.200000000000003, 0, 75, 0.25, 770, 21, 450, 25,
+                                          0.4};
+  for (int i = 0; i < kSynthesisParams; ++i) o.start[i] = start[i];
+  return o;
+}
+
+// A start that meets the criteria is the result, exactly as given, after one walk; unset
+// parameters start at Table 2's values.
+TEST(GaitSynthesisTest, AStartThatMeetsTheCriteriaIsTheResultInOneWalk) {
+  const Model model{ModelParams{}};
+  SimSetup setup;
+  setup.model = &model;
+  setup.options.record_every = 0;
+  const SynthesisOptions o = ShippedStartAt040();
+  const SynthesisResult r = SynthesizeGait(setup, o, nullptr);
+  EXPECT_TRUE(r.success);
+  EXPECT_EQ(r.evaluations, 1);
+  EXPECT_EQ(r.walks, 1);
+  for (int i = 0; i < kSynthesisParams; ++i) {
+    EXPECT_EQ(SynthesisParamValue(r.spec, i), *o.start[i]) << kSynthesisParamNames[i];
+  }
+  EXPECT_EQ(r.spec.rules.qi2_dsw, -4.200000000000003 * M_PI / 180.0);  // not rounded on the way
+  SynthesisOptions partial;
+  partial.target_v_m = 0.5;
+  partial.start[3] = 30.0;  // pulse_torque_nm
+  const GaitSpec spec = StartGaitSpec(partial);
+  EXPECT_EQ(spec.rules.pulse_torque, 30.0);
+  EXPECT_EQ(spec.rules.qr1_dsw, InitialGaitSpec(0.5).rules.qr1_dsw);
+  EXPECT_EQ(spec.start_speed, InitialGaitSpec(0.5).start_speed);
+}
+
+// A start that misses (the vm_0.40 parameters asked for 0.5 m/s) is where the search goes on from:
+// more walks than the start's, within the budget, never worse than the start.
+TEST(GaitSynthesisTest, AStartThatMissesIsWhereTheSearchGoesOnFrom) {
+  const Model model{ModelParams{}};
+  SimSetup setup;
+  setup.model = &model;
+  setup.options.record_every = 0;
+  SynthesisOptions o = ShippedStartAt040();
+  o.target_v_m = 0.5;
+  o.target_l_step = 0.3;
+  o.budget = 12;
+  o.walk_duration = 4.0;
+  o.window = 4;
+  const SynthesisResult r = SynthesizeGait(setup, o, nullptr);
+  const GaitRun start = WalkGait(setup, StartGaitSpec(o), o.walk_duration, o.window);
+  EXPECT_FALSE(MeetsCriteria(start.metrics, o));
+  EXPECT_GT(r.evaluations, 1);
+  EXPECT_LE(r.evaluations, o.budget);
+  EXPECT_LE(r.cost, GaitCost(start.metrics, o));
 }
 
 // A search that reaches the global stage gives the same result on 1 and 2 threads; on 2, the

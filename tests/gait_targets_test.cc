@@ -71,6 +71,33 @@ TEST_F(GaitTargetsTest, NamesRolesAndBounds) {
   EXPECT_GT(t[1].line, t[0].line);
 }
 
+// [gait.start]: any searched parameter, in the units of the bounds, within the target's bounds
+// (the wide box here); the unset ones stay unset. The start is part of the target's inputs.
+TEST_F(GaitTargetsTest, StartIsReadInTheUnitsOfTheBounds) {
+  const std::vector<GaitTarget> t =
+      ReadGaitTargets(Write("[[gait]]\nv_m = 0.8\n[gait.bounds]\nq0_d_deg = [-5, 25]\n"
+                            "[gait.start]\nq0_d_deg = 20\nhip_kp = 700\n"
+                            "[[gait]]\nv_m = 0.6\n"))
+          .gaits;
+  ASSERT_EQ(t.size(), 2u);
+  EXPECT_EQ(t[0].synthesis.start[2], 20.0);   // q0_d_deg
+  EXPECT_EQ(t[0].synthesis.start[5], 700.0);  // hip_kp
+  EXPECT_FALSE(t[0].synthesis.start[0].has_value());
+  EXPECT_EQ(StartGaitSpec(t[0].synthesis).rules.q0_d, 20.0 * M_PI / 180.0);
+  for (const auto& v : t[1].synthesis.start) EXPECT_FALSE(v.has_value());
+  GaitTarget moved = t[0];
+  moved.synthesis.start[5] = 701.0;
+  EXPECT_NE(TargetInputsText(moved), TargetInputsText(t[0]));
+  EXPECT_NE(TargetInputsText(t[0]).find("start q0_d_deg 20"), std::string::npos);
+  // Every shipped speed gait starts at its parameters: all ten given.
+  for (const GaitTarget& g :
+       ReadGaitTargets(std::string(RABBIT_SOURCE_DIR) + "/gaits/targets.toml").gaits) {
+    for (int i = 0; i < kSynthesisParams; ++i) {
+      EXPECT_TRUE(g.synthesis.start[i].has_value()) << g.name << " " << kSynthesisParamNames[i];
+    }
+  }
+}
+
 TEST_F(GaitTargetsTest, DefaultNames) {
   EXPECT_EQ(DefaultGaitName(0.6, 0.0, GaitRole::kSpeed), "vm_0.60");
   EXPECT_EQ(DefaultGaitName(0.6, 0.34, GaitRole::kSpeed), "vm_0.60");
@@ -99,6 +126,13 @@ TEST_F(GaitTargetsTest, TheShippedTargetsAreSpeedGaitsAndLibraryCells) {
     }
   }
   EXPECT_EQ(speed, 8);
+  // The library's speed gaits are the shipped targets' (starts and walker settings included).
+  const std::vector<GaitTarget> shipped =
+      ReadGaitTargets(std::string(RABBIT_SOURCE_DIR) + "/gaits/targets.toml").gaits;
+  for (size_t i = 0; i < shipped.size() && i < t.size(); ++i) {
+    EXPECT_EQ(TargetInputsText(t[i]), TargetInputsText(shipped[i])) << shipped[i].name;
+    EXPECT_EQ(t[i].walker.rule_share, shipped[i].walker.rule_share) << shipped[i].name;
+  }
   int speeds_with_three = 0;
   for (const auto& [v, n] : step_lengths) speeds_with_three += n >= 3 ? 1 : 0;
   EXPECT_GE(speeds_with_three, 5);

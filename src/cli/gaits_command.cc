@@ -30,14 +30,15 @@ namespace rabbit::cli {
 namespace {
 
 // The reference folder the database flags name. A --gaits folder that exists must be a database
-// (reference/ or manifest.csv) or empty: rabbit adds nothing to a folder of the user's.
-std::string Reference(const std::string& dir, const std::string& reference_dir) {
+// (reference/ or manifest.csv) or empty: rabbit adds nothing to a folder of the user's. `adds`: the
+// command adds gaits (a database the build made is only read).
+std::string Reference(const std::string& dir, const std::string& reference_dir, bool adds = true) {
   if (!reference_dir.empty()) return reference_dir;
   namespace fs = std::filesystem;
   if (fs::exists(fs::path(dir) / kIndexFile)) return dir;
   const fs::path root = GaitDatabaseRoot(dir);
   std::error_code error;
-  if (fs::exists(root / kManifestFile)) {
+  if (adds && fs::exists(root / kManifestFile)) {
     // A built database is changed as a whole: adding a gait alone would leave its networks, fuzzy
     // system and manifest behind.
     throw InputError("--gaits", 0, dir,
@@ -367,11 +368,11 @@ Command RegisterGaits(CLI::App* app) {
             if (g->parsed()) return RunGenerate(*gen);
             if (r->parsed()) {
               const std::string page =
-                  WriteGaitReport(Reference(*report_dir, *report_reference), *report_out);
+                  WriteGaitReport(Reference(*report_dir, *report_reference, false), *report_out);
               if (!*report_quiet) std::printf("wrote %s\n", page.c_str());
               return 0;
             }
-            if (l->parsed()) return RunList(Reference(*list_dir, *list_reference));
+            if (l->parsed()) return RunList(Reference(*list_dir, *list_reference, false));
             if (b->parsed()) return RunBuild(*build);
             return 2;
           }};
