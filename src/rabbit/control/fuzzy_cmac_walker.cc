@@ -224,7 +224,8 @@ StepPlan FuzzyCmacWalker::PlanNextStep(const Observation& obs, const StepRecord&
   const StepPlannerParams& pp = p_.planner;
   // A step that landed behind (a backward step after a push) was no attempt at the plan: it
   // does not feed the bias.
-  if (planner_target_ >= 0.0 && step.t_step > 0.0 && step.l_step > 0.0) {
+  if (planner_target_ >= 0.0 && step.t_step > 0.0 && step.l_step > 0.0 &&
+      (pp.over_feedback || !planner_after_over_)) {
     planner_bias_ = std::clamp(planner_bias_ + pp.feedback_gain * (step.l_step - planner_target_),
                                -pp.bias_max, pp.bias_max);
   }
@@ -236,25 +237,56 @@ StepPlan FuzzyCmacWalker::PlanNextStep(const Observation& obs, const StepRecord&
       break;
     }
   }
-  StepPlan plan = PlanStep(pp, d_obs, length);
+  if (pp.follow_gait && d_obs <= pp.horizon && planner_l_gait_ < 0.0) FreezeGait();
+  const StepPlannerParams ep = FollowGait(pp, planner_l_gait_ < 0.0 ? NAN : planner_l_gait_);
+  StepPlan plan = PlanStep(ep, d_obs, length);
   double target = plan.step_length;
+  planner_after_over_ = recovery_left_ > 0 || (plan.active && plan.approach_steps == 0);
+  if (plan.active && plan.approach_steps == 0) pitch_hold_left_ = pp.hold_pitch_steps;
   if (plan.active) {
     recovery_left_ = plan.approach_steps == 0 ? pp.recovery_steps : 0;
   } else if (recovery_left_ > 0) {
     // The steps after the step over: back to the nominal step through the planner.
     --recovery_left_;
-    target = pp.l_nominal;
+    target = ep.l_nominal;
   } else {
+    planner_l_gait_ = -1.0;  // the next obstacle measures the gait afresh
     return plan;
   }
   planner_target_ = target;
-  const double input = pp.l_nominal + pp.stretch * (target - pp.l_nominal) - planner_bias_;
+  const double base = planner_l_gait_ < 0.0 ? pp.l_nominal : planner_l_db_;
+  const double input = base + pp.stretch * (target - ep.l_nominal) - planner_bias_;
   // (Nearest-gait switching rounds them to the strongest gait in its SwingPattern.)
   const std::vector<double> some = StepLengthWeights(step_fis_, input);
   std::vector<double> w(p_.gait_l_steps.size(), 0.0);
   for (size_t i = 0; i < planner_gaits_.size(); ++i) w[planner_gaits_[i]] = some[i];
   pattern_->SetGaitWeights(w);
   return plan;
+}
+
+void FuzzyCmacWalker::FreezeGait() {
+  // The mean of the last two measured (forward) steps, and the database step of the weights the
+  // walker walks with now (Table 3's, before the planner sets any).
+  double sum = 0.0;
+  int n = 0;
+  const std::vector<StepRecord>& steps = meter_.steps();
+  for (auto it = steps.rbegin(); it != steps.rend() && n < 2; ++it) {
+    if (it->t_step > 0.0 && it->l_step > 0.0) {
+      sum += it->l_step;
+      ++n;
+    }
+  }
+  if (n == 0) return;  // nothing measured yet: the fixed settings
+  const std::vector<double>& w = pattern_->GaitWeights();
+  double l_db = 0.0, w_sum = 0.0;
+  for (size_t k = 0; k < w.size() && k < p_.gait_l_steps.size(); ++k) {
+    l_db += w[k] * p_.gait_l_steps[k];
+    w_sum += w[k];
+  }
+  if (!(w_sum > 0.0)) return;
+  planner_l_gait_ = sum / n;
+  planner_l_db_ = l_db / w_sum;
+  planner_bias_ = 0.0;
 }
 
 // Standard normal deviate from splitmix64 and Box-Muller: the same numbers on every platform
@@ -297,7 +329,9 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   }
   // The command the walker acts on (V_d itself unless velocity_control is enabled).
   const double v_c = speed_.Command(v_d);
-  if (measured && !warming_up_) {
+  const bool hold_pitch = pitch_hold_left_ > 0;  // planner.hold_pitch_steps after a step over
+  if (hold_pitch) --pitch_hold_left_;
+  if (measured && !warming_up_ && !hold_pitch) {
     q0_d_ = speed_.Update(v_m_, step.t_step, slope_.OvershootCorrection(v_m_, v_c));
   }
   const double front = obs.foot_pos[step.leg].x();

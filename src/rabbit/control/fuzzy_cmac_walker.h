@@ -194,6 +194,8 @@ class FuzzyCmacWalker final : public Controller {
   // The step planner's hook at a touchdown (front foot at x = front, perceived d_obs): sets the
   // gait weights for the coming step when an obstacle is within the horizon.
   StepPlan PlanNextStep(const Observation& obs, const StepRecord& step, double front, double d_obs);
+  // planner.follow_gait: measures the walker's step and its gait's database step (planner_l_*).
+  void FreezeGait();
   double Gaussian();
   // d_obs seen from x (no terrain: no obstacle), before noise.
   double ObstacleAhead(const Observation& obs, double x) const;
@@ -235,6 +237,10 @@ class FuzzyCmacWalker final : public Controller {
   double planner_bias_ = 0.0;          // planner: realised minus asked step length, fed back (m)
   double planner_target_ = -1.0;       // planner: the last planned step's target (-1: none)
   int recovery_left_ = 0;              // planner: nominal steps still to take after a step over
+  bool planner_after_over_ = false;    // planner: the coming step is the step over or after it
+  int pitch_hold_left_ = 0;            // planner: touchdowns still to leave q0_d unchanged
+  double planner_l_gait_ = -1.0;       // planner.follow_gait: the measured step (-1: none), m
+  double planner_l_db_ = 0.0;          // planner.follow_gait: its gait's database step, m
   std::vector<WalkerStep> steps_;
   std::vector<WalkerTrack> tracking_;
 };

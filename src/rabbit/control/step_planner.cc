@@ -20,7 +20,9 @@ bool StepPlannerParams::IsValid(std::string* error) const {
                                                     {"assumed_length", assumed_length},
                                                     {"over_lift_trail", over_lift_trail},
                                                     {"over_lift_release", over_lift_release},
-                                                    {"hold_margin", hold_margin}};
+                                                    {"hold_margin", hold_margin},
+                                                    {"follow_shorten", follow_shorten},
+                                                    {"follow_lengthen", follow_lengthen}};
   for (const auto& [name, value] : lengths) {
     if (!(std::isfinite(value) && value >= 0.0 && value <= 10.0)) {
       *error = std::string("planner.") + name + " must be in [0, 10] m";
@@ -51,11 +53,27 @@ bool StepPlannerParams::IsValid(std::string* error) const {
     *error = "planner.recovery_steps must be in [0, 100]";
     return false;
   }
+  if (hold_pitch_steps < 0 || hold_pitch_steps > 100) {
+    *error = "planner.hold_pitch_steps must be in [0, 100]";
+    return false;
+  }
   if (!(std::isfinite(stretch) && stretch > 0.0 && stretch <= 10.0)) {
     *error = "planner.stretch must be in (0, 10]";
     return false;
   }
   return true;
+}
+
+StepPlannerParams FollowGait(const StepPlannerParams& p, double l_gait) {
+  if (!p.follow_gait || !std::isfinite(l_gait)) return p;
+  StepPlannerParams f = p;
+  const double g = std::clamp(l_gait, p.l_min, p.l_over_max);
+  f.l_nominal = g;
+  f.l_min = std::max(p.l_min, g - p.follow_shorten);
+  f.l_max = std::min(p.l_over_max, g + p.follow_lengthen);
+  // A zero-width range (both spreads 0, or l_gait at a bound): the plan still needs l_min < l_max.
+  if (!(f.l_max > f.l_min)) f.l_max = f.l_min + 1e-6;
+  return f;
 }
 
 StepPlan PlanStep(const StepPlannerParams& p, double d_obs, double obstacle_length) {

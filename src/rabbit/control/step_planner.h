@@ -69,8 +69,32 @@ struct StepPlannerParams {
   double hold_margin = 0.03;        // m
   bool use_length = true;           // perceive the obstacle's length (else assume `assumed_length`)
   double assumed_length = 0.30;     // m
+  // Follow the gait (off: the fixed l_nominal, l_min, l_max above, chosen at 0.6 m/s). At the
+  // touchdown where an obstacle enters the horizon the planner takes the mean of the walker's
+  // last two measured steps as its nominal step L_g and asks for approach steps in
+  //   [max(l_min, L_g - follow_shorten), min(l_over_max, L_g + follow_lengthen)],
+  // preferring L_g (FollowGait below). The step-length system's input is then
+  //   L_db + stretch (L_target - L_g) - bias,
+  // L_db the database step length of the gait weights the walker had at that touchdown (the
+  // gait it walks), the bias starting at 0 for each obstacle (the offset between realised and
+  // database steps is in L_g - L_db already).
+  // After the step over: over_feedback false keeps the step over's and the recovery steps' length
+  // errors out of the bias (the foot lift, not the blend, sets the step over's length), and the
+  // velocity control leaves q0_d as it is at the touchdowns that end the step over and the
+  // hold_pitch_steps - 1 steps after it (the long step over's V_M is no measure of the gait's
+  // speed: it would lean the trunk back into a short step or a backward one; 0: off).
+  bool over_feedback = true;
+  int hold_pitch_steps = 0;
+  bool follow_gait = false;
+  double follow_shorten = 0.06;   // m
+  double follow_lengthen = 0.04;  // m
   bool IsValid(std::string* error) const;
 };
+
+// The planner's settings for a walker whose recent steps measure l_gait (m): l_nominal = l_gait
+// and the approach range of follow_gait (above), l_gait first clamped into [l_min, l_over_max].
+// Unchanged unless follow_gait.
+StepPlannerParams FollowGait(const StepPlannerParams& p, double l_gait);
 
 struct StepPlan {
   bool active = false;       // an obstacle within the horizon

@@ -270,6 +270,12 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
     pp.hold_margin = pt.Double("hold_margin", pp.hold_margin);
     pp.use_length = pt.Bool("use_length", pp.use_length);
     pp.assumed_length = pt.Double("assumed_length", pp.assumed_length);
+    pp.follow_gait = pt.Bool("follow_gait", pp.follow_gait);
+    pp.over_feedback = pt.Bool("over_feedback", pp.over_feedback);
+    pp.hold_pitch_steps =
+        static_cast<int>(pt.Integer("hold_pitch_steps", pp.hold_pitch_steps, 0, 100));
+    pp.follow_shorten = pt.Double("follow_shorten", pp.follow_shorten);
+    pp.follow_lengthen = pt.Double("follow_lengthen", pp.follow_lengthen);
     pt.Finish();
     std::string planner_error;
     if (!pp.IsValid(&planner_error)) {
