@@ -1,6 +1,6 @@
 // What a tuning job wrote (tune_report_data.h), read strictly: every error names the file, line
 // and column.
-#include "tune_report_data.h"
+#include "rabbit/report/tune_report_data.h"
 
 #include <algorithm>
 #include <array>
@@ -26,7 +26,7 @@
 #include "rabbit/report/report_page.h"
 #include "rabbit/report/suite_report.h"
 #include "rabbit/report/svg.h"
-#include "tune_report_data.h"
+#include "rabbit/report/tune_report_data.h"
 
 namespace rabbit::tune_report_internal {
 

@@ -1,4 +1,4 @@
-#include "rabbit/report/run_files.h"
+#include "rabbit/scenario/run_files.h"
 
 #include <cmath>
 #include <filesystem>
