@@ -155,6 +155,12 @@ void ReadMeta(const std::string& path, RunData* run) {
   run->lengths.trunk = length("trunk_length_m");
   const auto description = meta.find("description");
   if (description != meta.end()) run->description = description->second.first;
+  run->weight_gaits.clear();
+  const auto gaits = meta.find("weight_gaits");
+  if (gaits != meta.end() && !gaits->second.first.empty()) {
+    std::stringstream list(gaits->second.first);
+    for (std::string name; std::getline(list, name, ';');) run->weight_gaits.push_back(name);
+  }
 }
 
 // Rows whose coordinates are missing (`nan`: a run that diverged) are left out and counted.
@@ -204,8 +210,12 @@ void ReadSteps(const std::string& path, RunData* run) {
   const size_t c_q0_d = has_q0_d ? table.Column("q0_d_deg") : 0;
   const size_t c_rules = has_rules ? table.Column("rules") : 0;
   const std::vector<size_t> c_w = table.ColumnsWithPrefix("w_O");
+  // The gaits' names when meta.csv lists one per weight column, else the columns' own.
+  const bool named = run->weight_gaits.size() == c_w.size();
   run->weight_names.clear();
-  for (size_t c : c_w) run->weight_names.push_back(table.header()[c]);
+  for (size_t k = 0; k < c_w.size(); ++k) {
+    run->weight_names.push_back(named ? run->weight_gaits[k] : table.header()[c_w[k]]);
+  }
   for (size_t r = 0; r < table.num_rows(); ++r) {
     Step s;
     s.step = table.Integer(r, c_step);
