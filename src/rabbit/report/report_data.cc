@@ -10,6 +10,7 @@
 
 #include "rabbit/io/csv.h"
 #include "rabbit/io/csv_table.h"
+#include "rabbit/io/key_value_csv.h"
 #include "rabbit/io/error.h"
 
 namespace rabbit {
@@ -137,28 +138,19 @@ std::vector<SummaryRow> ReadSummary(const std::string& path) {
 namespace {
 
 void ReadMeta(const std::string& path, RunData* run) {
-  const CsvTable table = CsvTable::Read(path);
-  const size_t c_key = table.Column("key"), c_value = table.Column("value");
-  std::map<std::string, std::pair<std::string, int>> meta;
-  for (size_t r = 0; r < table.num_rows(); ++r) {
-    meta[table.Text(r, c_key)] = {table.Text(r, c_value), table.line(r)};
-  }
+  const KeyValueCsv meta = KeyValueCsv::Read(path);
   auto length = [&](const char* key) {
-    const auto it = meta.find(key);
-    if (it == meta.end()) throw InputError(path, 0, key, "missing key");
-    const double value = ParseFiniteNumber(it->second.first, path, it->second.second, key);
-    if (!(value > 0.0)) throw InputError(path, it->second.second, key, "must be positive");
+    const double value = meta.Number(key);
+    if (!(value > 0.0)) throw InputError(path, meta.line(key), key, "must be positive");
     return value;
   };
   run->lengths.thigh = length("thigh_length_m");
   run->lengths.shin = length("shin_length_m");
   run->lengths.trunk = length("trunk_length_m");
-  const auto description = meta.find("description");
-  if (description != meta.end()) run->description = description->second.first;
+  if (meta.Has("description")) run->description = meta.Text("description");
   run->weight_gaits.clear();
-  const auto gaits = meta.find("weight_gaits");
-  if (gaits != meta.end() && !gaits->second.first.empty()) {
-    std::stringstream list(gaits->second.first);
+  if (meta.Has("weight_gaits")) {
+    std::stringstream list(meta.Text("weight_gaits"));
     for (std::string name; std::getline(list, name, ';');) run->weight_gaits.push_back(name);
   }
 }

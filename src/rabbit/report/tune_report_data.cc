@@ -21,6 +21,7 @@
 #include "rabbit/io/csv.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/key_value_csv.h"
 #include "rabbit/report/gnuplot.h"
 #include "rabbit/report/report_figures.h"
 #include "rabbit/report/report_page.h"
@@ -59,34 +60,16 @@ std::array<size_t, kTerms> TermColumns(const CsvTable& table, const std::string&
 }
 
 Meta ReadMeta(const std::string& path) {
-  const CsvTable table = CsvTable::Read(path);
-  const size_t c_key = table.Column("key"), c_value = table.Column("value");
+  const KeyValueCsv kv = KeyValueCsv::Read(path);
   Meta meta;
-  std::map<std::string, size_t> rows;
-  for (size_t r = 0; r < table.num_rows(); ++r) {
-    const std::string key = table.Text(r, c_key);
-    const auto [it, inserted] = rows.emplace(key, r);
-    if (!inserted) {
-      throw InputError(path, table.line(r), "key",
-                       "\"" + key + "\" also on line " + std::to_string(table.line(it->second)));
-    }
-  }
-  auto row_of = [&](const std::string& key) {
-    const auto it = rows.find(key);
-    if (it == rows.end()) throw InputError(path, 0, key, "missing key");
-    return it->second;
-  };
-  auto text = [&](const std::string& key) { return table.Text(row_of(key), c_value); };
+  auto text = [&](const std::string& key) { return kv.Text(key); };
   // An evaluation number, or none yet (empty or nan: a job stopped before its first candidate).
   auto eval = [&](const std::string& key) -> std::optional<int> {
-    const size_t r = row_of(key);
-    const std::string t = table.Text(r, c_value);
+    const std::string t = kv.Text(key);
     if (t.empty() || t == "nan") return std::nullopt;
-    return table.Integer(r, c_value);
+    return kv.Integer(key);
   };
-  auto number = [&](const std::string& key) {
-    return table.Number(row_of(key), c_value, CsvNumber::kFiniteOrNan);
-  };
+  auto number = [&](const std::string& key) { return kv.Number(key, CsvNumber::kFiniteOrNan); };
   meta.job = text("job");
   meta.description = text("description");
   meta.job_file = text("job_file");
@@ -99,14 +82,14 @@ Meta ReadMeta(const std::string& path) {
   meta.suites = text("suites");
   meta.evaluations = text("evaluations");
   meta.fingerprint = text("fingerprint");
-  if (rows.count("guards") != 0) meta.guards = text("guards");  // optional: older jobs
+  if (kv.Has("guards")) meta.guards = text("guards");  // optional: older jobs
   meta.initial_eval = eval("initial_eval");
   meta.best_eval = eval("best_eval");
   meta.initial_objective = number("initial_objective");
   meta.best_objective = number("best_objective");
   const std::string complete = text("complete");
   if (complete != "true" && complete != "false") {
-    throw InputError(path, table.line(row_of("complete")), "complete",
+    throw InputError(path, kv.line("complete"), "complete",
                      "expected true or false, got \"" + complete + "\"");
   }
   meta.complete = complete == "true";
