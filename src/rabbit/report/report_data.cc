@@ -80,14 +80,7 @@ std::vector<SummaryRow> ReadSummary(const std::string& path) {
     row.outcome = table.Text(r, c_outcome);
     row.reason = table.Text(r, c_reason);
     row.failed = SplitOn(table.Text(r, c_failed), ';');
-    const std::string passed = table.Text(r, c_passed);
-    if (passed == "1" || passed == "true") {
-      row.passed = true;
-    } else if (passed == "0" || passed == "false") {
-      row.passed = false;
-    } else {
-      throw InputError(path, row.line, "passed", "expected 1 or 0, got \"" + passed + "\"");
-    }
+    row.passed = table.Flag(r, c_passed) == 1;
     if (row.scenario.empty()) throw InputError(path, row.line, "scenario", "empty scenario name");
     if (row.variant.empty()) throw InputError(path, row.line, "variant", "empty variant");
     if (!IsSafeFolderName(row.run)) {

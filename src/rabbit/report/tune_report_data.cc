@@ -35,16 +35,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// 1/0 (or true/false); -1 for an allowed missing value (empty or nan).
-int ReadFlag(const CsvTable& table, size_t row, size_t column, bool allow_missing) {
-  const std::string text = table.Text(row, column);
-  if (text == "1" || text == "true") return 1;
-  if (text == "0" || text == "false") return 0;
-  if (allow_missing && (text.empty() || text == "nan")) return -1;
-  throw InputError(table.file(), table.line(row), table.header()[column],
-                   "expected 1 or 0, got \"" + text + "\"");
-}
-
 Terms ReadTerms(const CsvTable& table, size_t row, const std::array<size_t, kTerms>& columns) {
   Terms terms{};
   for (int k = 0; k < kTerms; ++k) {
@@ -164,7 +154,7 @@ std::vector<Evaluation> ReadEvaluations(const std::string& path,
     for (size_t c : c_params) e.params.push_back(table.Number(r, c, CsvNumber::kFiniteOrNan));
     e.error = table.Text(r, c_error);
     if (c_guards) {
-      e.guards_run = ReadFlag(table, r, *c_guards, false);
+      e.guards_run = table.Flag(r, *c_guards);
       e.guard_broken = table.Text(r, *c_broken);
     }
     e.wall = table.Number(r, c_wall, CsvNumber::kFiniteOrNan);
@@ -187,7 +177,7 @@ void ReadRuns(const std::string& path, const std::set<int>& evals, const Meta& m
       throw InputError(path, table.line(r), "eval",
                        "evaluation " + std::to_string(eval) + " is not in evaluations.csv");
     }
-    ReadFlag(table, r, c_passed, false);
+    table.Flag(r, c_passed);
     ReadTerms(table, r, c_terms);
     const std::pair<std::string, std::string> key{table.Text(r, c_suite),
                                                   table.Text(r, c_scenario)};
@@ -211,8 +201,8 @@ std::vector<ComparisonRow> ReadComparison(const std::string& path) {
     ComparisonRow row;
     row.suite = table.Text(r, c_suite);
     row.scenario = table.Text(r, c_scenario);
-    row.initial_passed = ReadFlag(table, r, c_initial_passed, true);
-    row.best_passed = ReadFlag(table, r, c_best_passed, true);
+    row.initial_passed = table.Flag(r, c_initial_passed, true);
+    row.best_passed = table.Flag(r, c_best_passed, true);
     row.initial = ReadTerms(table, r, c_initial);
     row.best = ReadTerms(table, r, c_best);
     out.push_back(std::move(row));
