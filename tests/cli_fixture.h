@@ -24,6 +24,13 @@ std::string CliPath();
 CliRun RunCli(const std::string& args, const std::string& env = "",
               const std::string& streams = " 2>&1");
 
+// The exit code of `rabbit args` (128 + the signal's number when one ended it), with its output
+// (stdout and stderr) into *output when given.
+int RunCliCode(const std::string& args, std::string* output = nullptr);
+
+// A CSV text without its last column (e.g. wall_s: not deterministic).
+std::string WithoutLastColumn(const std::string& text);
+
 // A file's bytes ("" when it cannot be read).
 std::string ReadText(const std::filesystem::path& path);
 
