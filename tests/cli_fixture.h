@@ -63,6 +63,16 @@ class ScratchDirTest : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
+// The CLI tests' fixture (cli_test, cli_run_test, cli_report_test): a scratch folder, and the
+// shipped scenarios by name.
+class CliTest : public ScratchDirTest {
+ protected:
+  CliTest() : ScratchDirTest("rabbit_cli_test") {}
+  static std::string Scenario(const std::string& name) {
+    return std::string(RABBIT_SOURCE_DIR) + "/scenarios/" + name;
+  }
+};
+
 }  // namespace rabbit::testing
 
 #endif  // RABBIT_TESTS_CLI_FIXTURE_H_

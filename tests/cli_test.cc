@@ -21,18 +21,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using rabbit::testing::CliRun;
+using rabbit::testing::CliTest;
 using rabbit::testing::ReadText;
 using rabbit::testing::RunCli;
 using rabbit::testing::SmallWalkerSuite;
 using rabbit::testing::WithoutWallTime;
-
-class CliTest : public rabbit::testing::ScratchDirTest {
- protected:
-  CliTest() : ScratchDirTest("rabbit_cli_test") {}
-  std::string Scenario(const std::string& name) const {
-    return std::string(RABBIT_SOURCE_DIR) + "/scenarios/" + name;
-  }
-};
 
 }  // namespace
 
