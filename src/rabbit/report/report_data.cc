@@ -10,8 +10,8 @@
 
 #include "rabbit/io/csv.h"
 #include "rabbit/io/csv_table.h"
-#include "rabbit/io/key_value_csv.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/key_value_csv.h"
 
 namespace rabbit {
 namespace report_internal {
