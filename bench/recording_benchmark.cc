@@ -11,7 +11,7 @@
 #include <sstream>
 
 #include "rabbit/io/csv.h"
-#include "rabbit/report/run_files.h"
+#include "rabbit/scenario/run_files.h"
 #include "rabbit/scenario/run.h"
 #include "rabbit/scenario/suite.h"
 #include "rabbit/scenario/trajectory_csv.h"

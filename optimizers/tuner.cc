@@ -20,7 +20,7 @@
 #include "tune_evaluator.h"
 #include "tune_guards.h"
 #include "tune_log.h"
-#include "tune_report.h"
+#include "rabbit/report/tune_report.h"
 #include "tune_search.h"
 
 namespace rabbit {

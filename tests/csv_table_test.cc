@@ -131,6 +131,26 @@ TEST(CsvTableTest, ColumnsWithPrefixInFileOrder) {
   EXPECT_EQ(t.num_rows(), 0u);
 }
 
+TEST(CsvTableTest, FlagsAreOneZeroTrueFalseOrMissingWhereAllowed) {
+  const CsvTable t = CsvTable::Parse("f\n1\ntrue\n0\nfalse\n\"\"\nnan\nyes\n", "f.csv");
+  EXPECT_EQ(t.Flag(0, 0), 1);
+  EXPECT_EQ(t.Flag(1, 0), 1);
+  EXPECT_EQ(t.Flag(2, 0), 0);
+  EXPECT_EQ(t.Flag(3, 0), 0);
+  EXPECT_EQ(t.Flag(4, 0, true), -1);
+  EXPECT_EQ(t.Flag(5, 0, true), -1);
+  EXPECT_THROW(t.Flag(4, 0), InputError);
+  try {
+    t.Flag(6, 0, true);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.file(), "f.csv");
+    EXPECT_EQ(e.line(), 8);
+    EXPECT_EQ(e.key(), "f");
+    EXPECT_NE(std::string(e.what()).find("expected 1 or 0, got \"yes\""), std::string::npos);
+  }
+}
+
 TEST(CsvTableTest, ReadNamesAMissingFile) {
   const std::string path =
       (std::filesystem::temp_directory_path() / "rabbit_csv_table_test_missing.csv").string();

@@ -14,6 +14,7 @@
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
 #include "rabbit/scenario/suite.h"
+#include "suite_fixture.h"
 
 namespace rabbit {
 namespace {
@@ -22,20 +23,9 @@ namespace fs = std::filesystem;
 
 const std::string kRoot = RABBIT_SOURCE_DIR;
 
-class FamilyDrawsTest : public ::testing::Test {
+class FamilyDrawsTest : public testing::SuiteFileTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rabbit_family_draws_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string Write(const std::string& text) {
-    const fs::path path = dir_ / "suite.toml";
-    std::ofstream(path) << text;
-    return path.string();
-  }
+  FamilyDrawsTest() : SuiteFileTest("rabbit_family_draws_test") {}
   // A suite of one family on the shipped walker, with the family's body `family` (line 12 on).
   std::string Family(const std::string& family) {
     return "[suite]\nname = \"t\"\n[defaults.simulation]\nduration = 2.0\n"  // lines 1-4
@@ -46,17 +36,8 @@ class FamilyDrawsTest : public ::testing::Test {
            "[[family]]\nname = \"f\"\n" + family;  // lines 10-11
   }
   void ExpectError(const std::string& text, const std::string& key, const std::string& fragment) {
-    const std::string path = Write(text);
-    try {
-      LoadSuite(path);
-      ADD_FAILURE() << "no error for:\n" << text;
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.file(), path);
-      EXPECT_EQ(e.key(), key) << e.what();
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
+    ExpectSuiteError(text, -1, key, fragment);
   }
-  fs::path dir_;
 };
 
 TEST(DrawExpressionTest, ArithmeticWithPrecedence) {

@@ -18,41 +18,18 @@
 #include <string>
 #include <vector>
 
+#include "cli_fixture.h"
+
 namespace {
 
 namespace fs = std::filesystem;
 
 const std::string kRoot = RABBIT_SOURCE_DIR;
 
-struct CliRun {
-  int code = -1;
-  bool killed = false;
-  std::string output;  // stdout and stderr
-};
-
-// `env` is prefixed to the command; `streams` says where its output goes (default: both captured).
-CliRun RunCli(const std::string& args, const std::string& env = "",
-              const std::string& streams = " 2>&1") {
-  const std::string command =
-      (env.empty() ? "" : env + " ") + std::string(RABBIT_CLI_PATH) + " " + args + streams;
-  CliRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) run.output.append(buffer, n);
-  const int status = pclose(pipe);
-  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  run.killed = (WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) || run.code == 128 + SIGKILL;
-  return run;
-}
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using rabbit::testing::CliRun;
+using rabbit::testing::ReadText;
+using rabbit::testing::RunCli;
+using rabbit::testing::WithoutWallTime;
 
 // Every file below `root` (or `root` itself) with its content, and every folder: what "untouched"
 // compares.
@@ -60,7 +37,7 @@ std::map<std::string, std::string> Snapshot(const fs::path& root) {
   std::map<std::string, std::string> files;
   if (!fs::exists(fs::symlink_status(root))) return files;
   if (!fs::is_directory(fs::symlink_status(root))) {
-    files[root.string()] = fs::is_fifo(fs::symlink_status(root)) ? "<fifo>" : ReadFile(root);
+    files[root.string()] = fs::is_fifo(fs::symlink_status(root)) ? "<fifo>" : ReadText(root);
     return files;
   }
   files[root.string()] = "<dir>";
@@ -68,41 +45,19 @@ std::map<std::string, std::string> Snapshot(const fs::path& root) {
     const fs::file_status s = fs::symlink_status(e.path());
     files[e.path().string()] = fs::is_directory(s) ? "<dir>"
                                : fs::is_fifo(s)    ? "<fifo>"
-                                                   : ReadFile(e.path());
+                                                   : ReadText(e.path());
   }
   return files;
 }
 
-// summary.csv without its last two columns (wall_s, real_time_factor).
-std::string WithoutWallTime(const std::string& csv) {
-  std::stringstream in(csv), out;
-  for (std::string line; std::getline(in, line);) {
-    for (int k = 0; k < 2; ++k) line = line.substr(0, line.rfind(','));
-    out << line << "\n";
-  }
-  return out.str();
-}
-
-class FileSafetyTest : public ::testing::Test {
+class FileSafetyTest : public rabbit::testing::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rabbit_file_safety_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  fs::path Write(const std::string& name, const std::string& text) {
-    fs::create_directories((dir_ / name).parent_path());
-    std::ofstream(dir_ / name) << text;
-    return dir_ / name;
-  }
+  FileSafetyTest() : ScratchDirTest("rabbit_file_safety") {}
   // A gait database of two shipped gaits (quick to train), at `name`.
   fs::path SmallDatabase(const std::string& name) {
     const fs::path db = dir_ / name, shipped = kRoot + "/gaits/reference";
     fs::create_directories(db);
-    std::stringstream index(ReadFile(shipped / "index.csv"));
+    std::stringstream index(ReadText(shipped / "index.csv"));
     std::string line, text;
     std::getline(index, line);
     text = line + "\n";
@@ -141,7 +96,6 @@ class FileSafetyTest : public ::testing::Test {
     EXPECT_EQ(::mkfifo(path.c_str(), 0600), 0);
     return path;
   }
-  fs::path dir_;
 };
 
 std::string Expand(std::string text, const fs::path& dir) {
@@ -412,7 +366,7 @@ TEST_F(FileSafetyTest, RunKilledAtEveryPhaseResumes) {
   const fs::path suite = SmallSuite(), one = dir_ / "one", out = dir_ / "out";
   const std::string run = "run " + suite.string() + " --jobs 1 --no-html -q --out ";
   ASSERT_EQ(RunCli(run + one.string()).code, 0);
-  const std::string expected = WithoutWallTime(ReadFile(one / "summary.csv"));
+  const std::string expected = WithoutWallTime(ReadText(one / "summary.csv"));
   ASSERT_EQ(RunCli(run + out.string()).code, 0);  // an earlier report, replaced each time
   for (const char* phase : {"run-claimed", "run-staged", "run-replaced", "run-clearing-staging"}) {
     SCOPED_TRACE(phase);
@@ -425,7 +379,7 @@ TEST_F(FileSafetyTest, RunKilledAtEveryPhaseResumes) {
     EXPECT_TRUE(fs::exists(out / "summary.csv"));  // a whole report is there at every moment
     const CliRun resumed = RunCli(run + out.string() + " --resume");
     ASSERT_EQ(resumed.code, 0) << resumed.output;
-    EXPECT_EQ(WithoutWallTime(ReadFile(out / "summary.csv")), expected);
+    EXPECT_EQ(WithoutWallTime(ReadText(out / "summary.csv")), expected);
     EXPECT_FALSE(fs::exists(dir_ / "out.partial"));
     EXPECT_FALSE(fs::exists(out / ".rabbit-staging"));
     EXPECT_FALSE(fs::exists(dir_ / ".out.rabbit-lock"));
@@ -435,7 +389,7 @@ TEST_F(FileSafetyTest, RunKilledAtEveryPhaseResumes) {
 // A resume over a changed input file (here the gait database's index) is refused, naming it.
 TEST_F(FileSafetyTest, RunResumeRefusesChangedInputFilesNamingThem) {
   fs::copy(kRoot + "/gaits", dir_ / "gaits", fs::copy_options::recursive);
-  std::string text = ReadFile(SmallSuite());
+  std::string text = ReadText(SmallSuite());
   for (size_t at; (at = text.find(kRoot + "/gaits")) != std::string::npos;) {
     text.replace(at, kRoot.size() + 6, (dir_ / "gaits").string());
   }
@@ -455,7 +409,7 @@ TEST_F(FileSafetyTest, RunResumeRefusesChangedInputFilesNamingThem) {
 // Shards run over different input files (a gait changed between them) are not merged.
 TEST_F(FileSafetyTest, ShardsOverChangedInputFilesAreNotMerged) {
   fs::copy(kRoot + "/gaits", dir_ / "gaits", fs::copy_options::recursive);
-  std::string text = ReadFile(SmallSuite());
+  std::string text = ReadText(SmallSuite());
   for (size_t at; (at = text.find(kRoot + "/gaits")) != std::string::npos;) {
     text.replace(at, kRoot.size() + 6, (dir_ / "gaits").string());
   }
@@ -483,7 +437,7 @@ TEST_F(FileSafetyTest, TuneKilledAtEveryPhaseResumes) {
     ASSERT_TRUE(killed.killed) << killed.output;
     const CliRun resumed = RunCli(tune + cut.string() + " --resume");
     ASSERT_EQ(resumed.code, 0) << resumed.output;
-    EXPECT_EQ(ReadFile(cut / "best.toml"), ReadFile(whole / "best.toml"));
+    EXPECT_EQ(ReadText(cut / "best.toml"), ReadText(whole / "best.toml"));
     EXPECT_FALSE(fs::exists(dir_ / ".cut.rabbit-lock"));
   }
 }
@@ -493,7 +447,7 @@ TEST_F(FileSafetyTest, TuneResumeRefusesChangedInputFilesNamingThem) {
   fs::copy(kRoot + "/gaits", dir_ / "gaits", fs::copy_options::recursive);
   fs::create_directories(dir_ / "scenarios");
   fs::copy_file(kRoot + "/scenarios/tune_ramp.toml", dir_ / "scenarios" / "tune_ramp.toml");
-  std::string text = ReadFile(TuneJob());
+  std::string text = ReadText(TuneJob());
   text.replace(text.find(kRoot), kRoot.size(), dir_.string());
   const fs::path job = Write("local_job.toml", text), out = dir_ / "job";
   const std::string tune = "tune " + job.string() + " -q --no-html --out " + out.string();
@@ -553,7 +507,7 @@ TEST_F(FileSafetyTest, SecondRunWaitsForNoneAndTouchesNothingWhileTheFirstReplac
       << second.output;
   EXPECT_EQ(Snapshot(dir_ / "out.partial"), staging);  // the first one's work is untouched
   EXPECT_EQ(RunCli(run + " --resume").code, 2);
-  EXPECT_EQ(first.Finish(), 0) << ReadFile(dir_ / "first.log");
+  EXPECT_EQ(first.Finish(), 0) << ReadText(dir_ / "first.log");
   EXPECT_TRUE(fs::exists(out / "summary.csv"));
   EXPECT_FALSE(fs::exists(dir_ / "out.partial"));
 }
@@ -568,7 +522,7 @@ TEST_F(FileSafetyTest, SecondTuneResumeIsRefusedWhileTheFirstWrites) {
   EXPECT_NE(second.output.find("is being written by another rabbit (pid " + pid + ")"),
             std::string::npos)
       << second.output;
-  EXPECT_EQ(first.Finish(), 0) << ReadFile(dir_ / "first.log");
+  EXPECT_EQ(first.Finish(), 0) << ReadText(dir_ / "first.log");
   EXPECT_TRUE(fs::exists(out / "best.toml"));
 }
 

@@ -17,6 +17,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_fixture.h"
 #include "gait_manifest.h"
 #include "gait_targets.h"
 #include "rabbit/gait/walker_settings.h"
@@ -28,12 +29,7 @@ namespace {
 namespace fs = std::filesystem;
 const std::string kRoot = RABBIT_SOURCE_DIR;
 
-std::string Bytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+using testing::ReadText;
 
 // The shipped targets of vm_0.30 and vm_0.40 (the cheapest: a few walks each), as in
 // gaits/targets.toml but without their [gait.start]: the search from Table 2 finds them.
@@ -52,20 +48,9 @@ v_m = 0.4
 l_step = 0.24
 )";
 
-class GaitBuildTest : public ::testing::Test {
+class GaitBuildTest : public testing::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rabbit_gait_build_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string Write(const std::string& name, const std::string& text) {
-    const fs::path path = dir_ / name;
-    std::ofstream(path) << text;
-    return path.string();
-  }
+  GaitBuildTest() : ScratchDirTest("rabbit_gait_build_test") {}
   GaitBuildResult Build(const std::string& targets, const std::string& out, int threads) {
     GaitBuildOptions options;
     options.out = (dir_ / out).string();
@@ -85,7 +70,6 @@ class GaitBuildTest : public ::testing::Test {
       EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
     }
   }
-  fs::path dir_;
 };
 
 // Every file of gaits/ but README.md and the targets files is what `rabbit gaits build
@@ -126,9 +110,9 @@ TEST_F(GaitBuildTest, RebuildsShippedGaitsByteForByteWhateverTheThreads) {
   EXPECT_EQ(one.built, (std::vector<std::string>{"vm_0.30", "vm_0.40"}));
   for (const char* gait : {"vm_0.30", "vm_0.40"}) {
     const std::string file = std::string("reference/") + gait + ".csv";
-    EXPECT_EQ(Bytes(dir_ / "one" / file), Bytes(kRoot + "/gaits/" + file)) << file;
+    EXPECT_EQ(ReadText(dir_ / "one" / file), ReadText(kRoot + "/gaits/" + file)) << file;
   }
-  const std::string manifest = Bytes(dir_ / "one" / "manifest.csv");
+  const std::string manifest = ReadText(dir_ / "one" / "manifest.csv");
   EXPECT_EQ(manifest.rfind("# format = rabbit-gait-manifest/1\n", 0), 0u) << manifest;
   EXPECT_EQ(ReadWalkerSettings((dir_ / "one" / "walker.csv").string()).at("vm_0.30").rule_share,
             1.0);
@@ -139,7 +123,7 @@ TEST_F(GaitBuildTest, RebuildsShippedGaitsByteForByteWhateverTheThreads) {
     if (!e.is_regular_file()) continue;
     const fs::path rel = fs::relative(e.path(), dir_ / "one");
     files.push_back(rel.string());
-    EXPECT_EQ(Bytes(e.path()), Bytes(dir_ / "two" / rel)) << rel;
+    EXPECT_EQ(ReadText(e.path()), ReadText(dir_ / "two" / rel)) << rel;
   }
   // gaits, index, networks, their index and marker, fll, walker.csv, manifest
   EXPECT_EQ(files.size(), 2u + 1u + 8u + 1u + 1u + 1u + 1u + 1u);
@@ -149,11 +133,11 @@ TEST_F(GaitBuildTest, RebuildsShippedGaitsByteForByteWhateverTheThreads) {
 TEST_F(GaitBuildTest, ResumeKeepsUnchangedGaitsAndRebuildsChangedOnes) {
   const std::string targets = Write("targets.toml", kTwoGaits);
   Build(targets, "db", 1);
-  const std::string manifest = Bytes(dir_ / "db" / "manifest.csv");
+  const std::string manifest = ReadText(dir_ / "db" / "manifest.csv");
   GaitBuildResult again = Build(targets, "db", 1);
   EXPECT_TRUE(again.built.empty());
   EXPECT_EQ(again.kept.size(), 2u);
-  EXPECT_EQ(Bytes(dir_ / "db" / "manifest.csv"), manifest);
+  EXPECT_EQ(ReadText(dir_ / "db" / "manifest.csv"), manifest);
   // An incomplete staging folder left by a killed build is dropped.
   fs::create_directories(dir_ / "db" / ".build" / "reference");
   std::ofstream(dir_ / "db" / ".build" / "reference" / "half.csv") << "x";
@@ -177,7 +161,7 @@ TEST_F(GaitBuildTest, MissedTargetExitsOneAndWritesNothingForIt) {
   EXPECT_FALSE(fs::exists(dir_ / "db" / "reference" / "vm_0.90.csv"));
   EXPECT_FALSE(fs::exists(dir_ / "db" / "networks" / "vm_0.90_q_i1.csv"));
   EXPECT_TRUE(fs::exists(dir_ / "db" / "reference" / "vm_0.40.csv"));
-  EXPECT_EQ(Bytes(dir_ / "db" / "manifest.csv").find("vm_0.90"), std::string::npos);
+  EXPECT_EQ(ReadText(dir_ / "db" / "manifest.csv").find("vm_0.90"), std::string::npos);
 }
 
 TEST_F(GaitBuildTest, RefusesAnOutThatIsNotADatabaseOrDisagreesWithItsManifest) {
@@ -185,19 +169,19 @@ TEST_F(GaitBuildTest, RefusesAnOutThatIsNotADatabaseOrDisagreesWithItsManifest) 
   fs::create_directories(dir_ / "other");
   std::ofstream(dir_ / "other" / "notes.txt") << "mine\n";
   EXPECT_THROW(Build(targets, "other", 1), InputError);
-  EXPECT_EQ(Bytes(dir_ / "other" / "notes.txt"), "mine\n");
+  EXPECT_EQ(ReadText(dir_ / "other" / "notes.txt"), "mine\n");
   EXPECT_EQ(std::distance(fs::directory_iterator(dir_ / "other"), fs::directory_iterator()), 1);
   // A database whose gait file was edited: refused, untouched.
   Build(targets, "db", 1);
   std::ofstream(dir_ / "db" / "reference" / "vm_0.40.csv", std::ios::app) << "\n";
-  const std::string edited = Bytes(dir_ / "db" / "reference" / "vm_0.40.csv");
+  const std::string edited = ReadText(dir_ / "db" / "reference" / "vm_0.40.csv");
   try {
     Build(targets, "db", 1);
     ADD_FAILURE() << "no error";
   } catch (const InputError& e) {
     EXPECT_EQ(e.key(), "reference/vm_0.40.csv") << e.what();
   }
-  EXPECT_EQ(Bytes(dir_ / "db" / "reference" / "vm_0.40.csv"), edited);
+  EXPECT_EQ(ReadText(dir_ / "db" / "reference" / "vm_0.40.csv"), edited);
   // A file the manifest does not list.
   fs::resize_file(dir_ / "db" / "reference" / "vm_0.40.csv", edited.size() - 1);
   std::ofstream(dir_ / "db" / "reference" / "extra.csv") << "x\n";
@@ -239,7 +223,7 @@ TEST_F(GaitBuildTest, CommandExitsTwoOnBadTargetsAndWritesNothing) {
   ASSERT_TRUE(WIFEXITED(status));
   EXPECT_EQ(WEXITSTATUS(status), 2);
   EXPECT_FALSE(fs::exists(out));
-  const std::string message = Bytes(err);
+  const std::string message = ReadText(err);
   EXPECT_NE(message.find("bad.toml:3"), std::string::npos) << message;
   EXPECT_NE(message.find("gait[1].name"), std::string::npos) << message;
 }

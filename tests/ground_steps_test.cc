@@ -11,27 +11,15 @@
 #include "rabbit/control/basic_controllers.h"
 #include "rabbit/model/model.h"
 #include "rabbit/sim/simulator.h"
+#include "sim_fixture.h"
 
 namespace rabbit {
 namespace {
 
 using Vec2 = Eigen::Vector2d;
 
-// The A-frame stance (legs +-12 deg, knees straight), its lowest foot `clearance` above y = 0.
-Vec7 Stance(const Model& model, double clearance) {
-  Vec7 q = Vec7::Zero();
-  q[kQ11] = 12.0 * M_PI / 180.0;
-  q[kQ21] = -12.0 * M_PI / 180.0;
-  const double lowest = std::min(FootPosition(model, q, 0).y(), FootPosition(model, q, 1).y());
-  q[kY] = clearance - lowest;
-  return q;
-}
-
-PdHoldParams HoldAt(const Vec7& q) {
-  PdHoldParams p;
-  p.target = q.tail<4>();
-  return p;
-}
+using testing::HoldAt;
+using testing::Stance;
 
 TEST(GroundStepsTest, LevelsFaceAndOutline) {
   // A 4 cm platform from 1 to 2 m on flat ground.

@@ -4,25 +4,18 @@
 // that must be left byte for byte as they were and the outputs that must not appear. Unbounded
 // input is a large sparse file or a FIFO fed by a writer thread with a bounded amount of data
 // (never a system device). No sleeps: the FIFO's writer is released by opening the FIFO.
-#include <fcntl.h>
 #include <gtest/gtest.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
-#include <unistd.h>
 
-#include <algorithm>
-#include <atomic>
 #include <csignal>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
-#include <fstream>
-#include <functional>
 #include <map>
-#include <sstream>
+#include <memory>
 #include <string>
-#include <thread>
 #include <vector>
+
+#include "cli_fixture.h"
+#include "hostile_fixture.h"
 
 // The table's rows leave their optional fields (untouched, absent, fifo) out.
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
@@ -30,156 +23,23 @@
 namespace {
 
 namespace fs = std::filesystem;
+using rabbit::testing::Case;
+using rabbit::testing::CliRun;
+using rabbit::testing::Expand;
+using rabbit::testing::FifoWriter;
+using rabbit::testing::kDrop;
+using rabbit::testing::kDropInSuite;
+using rabbit::testing::kMiB;
+using rabbit::testing::ReadText;
+using rabbit::testing::Replace;
+using rabbit::testing::RunCli;
+using rabbit::testing::ScenarioText;
+using rabbit::testing::Snapshot;
+using rabbit::testing::Sparse;
+using rabbit::testing::WalkerScenario;
+using rabbit::testing::WriteText;
 
 const std::string kRoot = RABBIT_SOURCE_DIR;
-
-struct CliRun {
-  int code = -1;
-  std::string output;  // stdout and stderr
-};
-
-// The binary under test: the build's, or RABBIT_CLI when set (e.g. a sanitizer build's).
-std::string CliPath() {
-  const char* other = std::getenv("RABBIT_CLI");
-  return other != nullptr ? other : RABBIT_CLI_PATH;
-}
-
-CliRun RunCli(const std::string& args) {
-  const std::string command = CliPath() + " " + args + " 2>&1";
-  CliRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) run.output.append(buffer, n);
-  const int status = pclose(pipe);
-  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
-
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-void WriteText(const fs::path& path, const std::string& text) {
-  fs::create_directories(path.parent_path());
-  std::ofstream(path, std::ios::binary) << text;
-}
-
-void Replace(const fs::path& path, const std::string& from, const std::string& to) {
-  std::string text = ReadText(path);
-  const size_t at = text.find(from);
-  ASSERT_NE(at, std::string::npos) << from << " in " << path;
-  text.replace(at, from.size(), to);
-  WriteText(path, text);
-}
-
-// A sparse file of `bytes` (no disk used).
-void Sparse(const fs::path& path, std::uintmax_t bytes) {
-  WriteText(path, "");
-  fs::resize_file(path, bytes);
-}
-
-// Every regular file under `path` (or `path` itself) with its bytes.
-std::map<std::string, std::string> Snapshot(const fs::path& path) {
-  std::map<std::string, std::string> out;
-  if (fs::is_regular_file(path)) {
-    out[path.string()] = ReadText(path);
-  } else if (fs::is_directory(path)) {
-    for (const auto& entry : fs::recursive_directory_iterator(path)) {
-      if (entry.is_regular_file()) out[entry.path().string()] = ReadText(entry.path());
-    }
-  }
-  return out;
-}
-
-constexpr std::uintmax_t kMiB = 1024 * 1024;
-
-// A scenario file in the scratch folder (`body` after the name).
-std::string ScenarioText(const std::string& name, const std::string& body) {
-  return "name = \"" + name + "\"\n" + body;
-}
-
-// A walker scenario on the given gait database (other files shipped).
-std::string WalkerScenario(const std::string& gaits, const std::string& extra) {
-  return ScenarioText("w",
-                      "[simulation]\nduration = 1.0\n[velocity]\nvalue = 0.6\n"
-                      "[controller]\ntype = \"fuzzy_cmac\"\nfll = \"" +
-                          kRoot + "/gaits/gait_pattern.fll\"\nnetworks = \"" + kRoot +
-                          "/gaits/networks\"\ngaits = \"" + gaits + "\"\n" + extra);
-}
-
-const std::string kDrop =
-    "[simulation]\nduration = 0.05\n[initial]\nfoot_clearance = 0.02\n[controller]\n"
-    "type = \"pd_hold\"\nkp = 600.0\nkd = 30.0\n";
-// The same as one [[scenario]] of a suite.
-const std::string kDropInSuite =
-    "[scenario.simulation]\nduration = 0.05\n[scenario.initial]\nfoot_clearance = 0.02\n"
-    "[scenario.controller]\ntype = \"pd_hold\"\nkp = 600.0\nkd = 30.0\n";
-
-// One row of the table. Paths in `args`, `untouched` and `absent` may use {D} (the scratch
-// folder) and {R} (the source tree).
-struct Case {
-  std::string name;
-  std::function<void(const fs::path& dir)> setup;
-  std::string args;
-  int code;
-  std::vector<std::string> fragments;
-  std::vector<std::string> untouched;
-  std::vector<std::string> absent;
-  std::string fifo;  // a FIFO to create and feed (relative to {D}), or empty
-  std::uintmax_t fifo_bytes = 0;
-};
-
-std::string Expand(std::string s, const fs::path& dir) {
-  for (const auto& [key, value] :
-       {std::pair<std::string, std::string>("{D}", dir.string()), {"{R}", kRoot}}) {
-    for (size_t at = s.find(key); at != std::string::npos; at = s.find(key, at)) {
-      s.replace(at, key.size(), value);
-      at += value.size();
-    }
-  }
-  return s;
-}
-
-// Feeds `bytes` NUL bytes into the FIFO at `path` from a thread, as /dev/zero would but bounded.
-class FifoWriter {
- public:
-  FifoWriter(const fs::path& path, std::uintmax_t bytes) : path_(path) {
-    EXPECT_EQ(::mkfifo(path.c_str(), 0600), 0);
-    thread_ = std::thread([this, bytes] {
-      const int fd = ::open(path_.c_str(), O_WRONLY);
-      if (fd >= 0) {
-        const std::string chunk(65536, '\0');
-        std::uintmax_t left = bytes;
-        while (left > 0) {
-          const ssize_t w = ::write(fd, chunk.data(), std::min<std::uintmax_t>(left, chunk.size()));
-          if (w <= 0) break;  // the reader stopped reading (EPIPE: SIGPIPE is ignored)
-          left -= static_cast<std::uintmax_t>(w);
-        }
-        ::close(fd);
-      }
-      done_ = true;
-    });
-  }
-  // Releases a writer still waiting for a reader (opening the FIFO without blocking), then joins.
-  ~FifoWriter() {
-    while (!done_) {
-      const int fd = ::open(path_.c_str(), O_RDONLY | O_NONBLOCK);
-      if (fd >= 0) ::close(fd);
-      std::this_thread::yield();
-    }
-    thread_.join();
-  }
-
- private:
-  fs::path path_;
-  std::atomic<bool> done_{false};
-  std::thread thread_;
-};
 
 std::vector<Case> Cases() {
   std::vector<Case> c;

@@ -14,7 +14,7 @@
 #include "rabbit/report/suite_report.h"
 #include "report_fixture.h"
 #include "tune_fixture.h"
-#include "tune_report.h"
+#include "rabbit/report/tune_report.h"
 
 namespace rabbit {
 namespace {

@@ -2,7 +2,7 @@
 // the full control rate, so a walk recorded at every period, every 7th, every 10th, every 50th or
 // not at all gives the same row (wall-time columns aside); and a recorded trajectory's numbers
 // read back as the simulated doubles.
-#include "rabbit/report/run_files.h"
+#include "rabbit/scenario/run_files.h"
 
 #include <gtest/gtest.h>
 

@@ -10,7 +10,7 @@
 #include <cmath>
 #include <map>
 
-#include "rabbit/report/run_files.h"
+#include "rabbit/scenario/run_files.h"
 #include "rabbit/scenario/batch.h"
 #include "rabbit/scenario/suite.h"
 

@@ -11,6 +11,7 @@
 
 #include "rabbit/control/fuzzy_cmac_walker.h"
 #include "rabbit/io/error.h"
+#include "suite_fixture.h"
 #include "rabbit/learn/ts_fis.h"
 #include "rabbit/scenario/run.h"
 #include "rabbit/scenario/suite.h"
@@ -127,43 +128,17 @@ TEST(StepLengthFisTest, AnyNumberOfGaits) {
 }
 
 // [controller.planner] keys: validated, errors naming the file, line and key.
-class PlannerKeysTest : public ::testing::Test {
+class PlannerKeysTest : public testing::SuiteFileTest {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("rabbit_step_planner_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
+  PlannerKeysTest() : SuiteFileTest("rabbit_step_planner_test") {}
+  // The walker suite with `planner` in [defaults.controller.planner] (line 12).
   std::string Write(const std::string& planner) {
-    const std::string root = RABBIT_SOURCE_DIR;
-    const std::string path = (dir_ / "suite.toml").string();
-    std::ofstream(path) << "[suite]\nname = \"t\"\n[defaults.simulation]\nduration = 2.0\n"
-                        << "[defaults.velocity]\nvalue = 0.6\n[defaults.controller]\n"
-                        << "type = \"fuzzy_cmac\"\nfll = \"" << root
-                        << "/gaits/gait_pattern.fll\"\nnetworks = \"" << root
-                        << "/gaits/networks\"\ngaits = \"" << root << "/gaits/reference\"\n"
-                        << "[defaults.controller.planner]\n"  // line 12
-                        << planner << "[[scenario]]\nname = \"a\"\n";
-    return path;
+    return SuiteFileTest::Write(testing::WalkerKeysSuite("planner", planner));
   }
   void ExpectError(const std::string& planner, int line, const std::string& key,
                    const std::string& fragment) {
-    const std::string path = Write(planner);
-    try {
-      LoadSuite(path);
-      ADD_FAILURE() << "no error for:\n" << planner;
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.file(), path);
-      if (line >= 0) {
-        EXPECT_EQ(e.line(), line) << e.what();
-      }
-      EXPECT_EQ(e.key(), key) << e.what();
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
+    ExpectSuiteError(testing::WalkerKeysSuite("planner", planner), line, key, fragment);
   }
-  std::filesystem::path dir_;
 };
 
 TEST_F(PlannerKeysTest, ReadAndValidated) {

@@ -18,6 +18,7 @@
 
 #include "rabbit/io/error.h"
 #include "rabbit/model/model.h"
+#include "rabbit/report/report_data.h"
 #include "report_fixture.h"
 
 namespace rabbit {
@@ -27,6 +28,9 @@ namespace fs = std::filesystem;
 using testing::Count;
 using testing::ReadText;
 using testing::WriteText;
+using report_internal::ReadRun;
+using report_internal::ReadSummary;
+using report_internal::SummaryRow;
 
 bool OnPath(const std::string& name) {
   const char* path = std::getenv("PATH");
@@ -241,6 +245,41 @@ TEST_F(SuiteReportTest, WithoutGnuplotWarnsAndKeepsTablesAndReplays) {
   EXPECT_EQ(Count(page, "<canvas"), 3);
   EXPECT_EQ(Count(page, "<img"), 0);
   EXPECT_NE(page.find("class=\"warning\""), std::string::npos);
+  fs::remove_all(dir);
+}
+
+// The weights' legends and the step table's columns name the reference gaits meta.csv lists
+// (weight_gaits); a folder without the key, or with a list of another length, keeps w_O1 ...
+TEST_F(SuiteReportTest, WeightLegendsNameTheGaitsOfMetaCsv) {
+  const std::string dir = CopyFixture("gait_names");
+  const std::vector<SummaryRow> rows = ReadSummary(dir + "/summary.csv");
+  ASSERT_EQ(rows[0].run, "walk");
+  const std::vector<std::string> columns = {"w_O1", "w_O2", "w_O3", "w_O4", "w_O5"};
+  EXPECT_EQ(ReadRun(dir, rows[0], nullptr).weight_names, columns);  // no key: the columns
+  const std::string meta = dir + "/walk/meta.csv", before = ReadText(meta);
+  WriteText(meta, before + "weight_gaits,vm_0.3;vm_0.5;vm_0.6;vm_0.7;vm_0.9\n");
+  const std::vector<std::string> gaits = {"vm_0.3", "vm_0.5", "vm_0.6", "vm_0.7", "vm_0.9"};
+  EXPECT_EQ(ReadRun(dir, rows[0], nullptr).weight_names, gaits);
+  // The page: the step table's header cells and the figure script's legend titles (a gnuplot
+  // that keeps its script and fails: the page is still written).
+  const std::string script = dir + "/script.gp", plotter = dir + "/keep_script.sh";
+  WriteText(plotter, "#!/bin/sh\ncp \"$1\" '" + script + "'\nexit 1\n");
+  fs::permissions(plotter, fs::perms::owner_all);
+  SuiteReportOptions options;
+  options.gnuplot = plotter;
+  std::vector<std::string> warnings;
+  const std::string page = ReadText(WriteSuiteReport(dir, options, &warnings));
+  const std::string plot = ReadText(script);
+  for (const std::string& g : gaits) {
+    EXPECT_NE(page.find("<th>" + g + "</th>"), std::string::npos) << g;
+    EXPECT_NE(plot.find("title '" + g + "' noenhanced"), std::string::npos) << g;
+  }
+  // walk's figure alone: the other runs' folders have no weight_gaits and keep w_O1 ...
+  EXPECT_EQ(Count(plot, "title 'vm_0.3'"), 1);
+  EXPECT_GE(Count(plot, "title 'w_O1'"), 1);
+  // A list that does not match the columns: the columns' names.
+  WriteText(meta, before + "weight_gaits,vm_0.3;vm_0.5\n");
+  EXPECT_EQ(ReadRun(dir, rows[0], nullptr).weight_names, columns);
   fs::remove_all(dir);
 }
 

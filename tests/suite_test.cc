@@ -14,6 +14,7 @@
 #include <set>
 
 #include "rabbit/io/error.h"
+#include "suite_fixture.h"
 
 namespace rabbit {
 namespace {
@@ -22,34 +23,12 @@ namespace fs = std::filesystem;
 
 const std::string kRoot = RABBIT_SOURCE_DIR;
 
-class SuiteTest : public ::testing::Test {
+class SuiteTest : public testing::SuiteFileTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rabbit_suite_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string Write(const std::string& text) {
-    const fs::path path = dir_ / "suite.toml";
-    std::ofstream(path) << text;
-    return path.string();
-  }
+  SuiteTest() : SuiteFileTest("rabbit_suite_test") {}
   void ExpectError(const std::string& text, int line, const std::string& key,
                    const std::string& fragment) {
-    const std::string path = Write(text);
-    try {
-      LoadSuite(path);
-      ADD_FAILURE() << "no error for:\n" << text;
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.file(), path);
-      if (line >= 0) {
-        EXPECT_EQ(e.line(), line) << e.what();
-      }
-      EXPECT_EQ(e.key(), key) << e.what();
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
-    }
+    ExpectSuiteError(text, line, key, fragment);
   }
   // A walker suite on the shipped gaits, with `extra` appended.
   std::string Walker(const std::string& extra) {
@@ -66,7 +45,6 @@ class SuiteTest : public ::testing::Test {
            kRoot + "/gaits/reference\"\n" +  // line 11
            extra;
   }
-  fs::path dir_;
 };
 
 TEST_F(SuiteTest, ShippedPaperSuiteLoads) {

@@ -17,6 +17,7 @@
 #include <limits>
 #include <sstream>
 
+#include "cli_fixture.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
 #include "tune_job.h"
@@ -29,50 +30,17 @@ namespace fs = std::filesystem;
 
 const std::string kRoot = RABBIT_SOURCE_DIR;
 
-int RunCli(const std::string& args, std::string* output = nullptr) {
-  const std::string command = std::string(RABBIT_CLI_PATH) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return -1;
-  std::string text;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) text.append(buffer, n);
-  const int status = pclose(pipe);
-  if (output != nullptr) *output = text;
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : -1;
-}
+using testing::ReadText;
+using testing::RunCliCode;
+using testing::WithoutLastColumn;
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// A CSV text without its last column (wall_s: not deterministic).
-std::string WithoutLastColumn(const std::string& text) {
-  std::istringstream in(text);
-  std::string line, out;
-  while (std::getline(in, line)) out += line.substr(0, line.rfind(',')) + "\n";
-  return out;
-}
-
-class TuneGuardsTest : public ::testing::Test {
+class TuneGuardsTest : public testing::ScratchDirTest {
  protected:
+  TuneGuardsTest() : ScratchDirTest("rabbit_tune_guards_test") {}
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rabbit_tune_guards_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ScratchDirTest::SetUp();
     // A short walker scenario: 12 s of the ramp up (about 15 steps), two gains.
     Write("base.toml", "[params]\n\"simulation.duration\" = 12\n\"criteria.min_steps\" = 5\n");
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string Write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return (dir_ / name).string();
   }
   // A guard suite of one required scenario: the tuning scenario itself (ramp_up, under the job's
   // base overlay, so its runs are the objective's runs) with `criteria` added; and an optional
@@ -110,7 +78,6 @@ class TuneGuardsTest : public ::testing::Test {
     options.html = false;
     return RunTune(LoadTuneJob(job), options);
   }
-  fs::path dir_;
 };
 
 TEST_F(TuneGuardsTest, ABrokenGuardIsNeverTheBest) {
@@ -170,7 +137,7 @@ TEST_F(TuneGuardsTest, NoCandidateKeepsAnImpossibleGuard) {
   Guard("min_distance_m = 1000");  // (min_steps: the base overlay sets it)
   std::string output;
   const std::string out = (dir_ / "out").string();
-  ASSERT_EQ(RunCli("tune " + Job("[\"guard.toml\"]") + " --out " + out + " -j 2", &output), 0)
+  ASSERT_EQ(RunCliCode("tune " + Job("[\"guard.toml\"]") + " --out " + out + " -j 2", &output), 0)
       << output;
   EXPECT_NE(output.find("no candidate kept the required scenarios of the guard suites"),
             std::string::npos)
@@ -206,21 +173,21 @@ TEST_F(TuneGuardsTest, AKilledGuardedJobResumesToTheSameLog) {
   Guard("max_l_step_spread_m = 0.02");
   const std::string job = Job("[\"guard.toml\"]");
   const std::string whole = (dir_ / "whole").string(), cut = (dir_ / "cut").string();
-  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + whole), 0);
+  ASSERT_EQ(RunCliCode("tune " + job + " -q --no-html --out " + whole), 0);
   const std::string command = "RABBIT_TUNE_KILL_AFTER=3 " + std::string(RABBIT_CLI_PATH) +
                               " tune " + job + " -q --no-html --out " + cut + " > /dev/null 2>&1";
   const int killed = std::system(command.c_str());
   EXPECT_TRUE(WIFSIGNALED(killed) || (WIFEXITED(killed) && WEXITSTATUS(killed) == 128 + SIGKILL))
       << killed;
   std::string output;
-  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + cut, &output), 0) << output;
+  ASSERT_EQ(RunCliCode("tune " + job + " --no-html --resume --out " + cut, &output), 0) << output;
   EXPECT_NE(output.find("replayed   3 evaluations"), std::string::npos) << output;
   EXPECT_EQ(WithoutLastColumn(ReadText(fs::path(cut) / "evaluations.csv")),
             WithoutLastColumn(ReadText(fs::path(whole) / "evaluations.csv")));
   EXPECT_EQ(ReadText(fs::path(cut) / "best.toml"), ReadText(fs::path(whole) / "best.toml"));
   // A changed guard suite is another job: its fingerprint differs, the log is not resumed.
   Guard("max_l_step_spread_m = 0.03");
-  EXPECT_EQ(RunCli("tune " + job + " --no-html --resume --out " + cut, &output), 2);
+  EXPECT_EQ(RunCliCode("tune " + job + " --no-html --resume --out " + cut, &output), 2);
   EXPECT_NE(output.find("fingerprint"), std::string::npos) << output;
 }
 

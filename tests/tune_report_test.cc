@@ -3,7 +3,7 @@
 // is installed; without gnuplot a warning and no figures, never a failure; one evaluation or one
 // parameter still draws; a long log is collapsed; malformed or inconsistent files name the file,
 // line and column.
-#include "tune_report.h"
+#include "rabbit/report/tune_report.h"
 
 #include <gtest/gtest.h>
 #include <unistd.h>

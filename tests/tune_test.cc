@@ -15,6 +15,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "cli_fixture.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
 #include "rabbit/scenario/batch.h"
@@ -28,50 +29,17 @@ namespace fs = std::filesystem;
 
 const std::string kRoot = RABBIT_SOURCE_DIR;
 
-int RunCli(const std::string& args, std::string* output = nullptr) {
-  const std::string command = std::string(RABBIT_CLI_PATH) + " " + args + " 2>&1";
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return -1;
-  std::string text;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) text.append(buffer, n);
-  const int status = pclose(pipe);
-  if (output != nullptr) *output = text;
-  if (WIFEXITED(status)) return WEXITSTATUS(status);
-  return WIFSIGNALED(status) ? 128 + WTERMSIG(status) : -1;
-}
+using testing::ReadText;
+using testing::RunCliCode;
+using testing::WithoutLastColumn;
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// A CSV text without its last column (wall_s: not deterministic).
-std::string WithoutLastColumn(const std::string& text) {
-  std::istringstream in(text);
-  std::string line, out;
-  while (std::getline(in, line)) out += line.substr(0, line.rfind(',')) + "\n";
-  return out;
-}
-
-class TuneTest : public ::testing::Test {
+class TuneTest : public testing::ScratchDirTest {
  protected:
+  TuneTest() : ScratchDirTest("rabbit_tune_test") {}
   void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rabbit_tune_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::remove_all(dir_);
-    fs::create_directories(dir_);
+    ScratchDirTest::SetUp();
     // A short walker scenario: 12 s of the ramp up (about 15 steps), two gains.
     Write("base.toml", "[params]\n\"simulation.duration\" = 12\n\"criteria.min_steps\" = 5\n");
-  }
-  void TearDown() override { fs::remove_all(dir_); }
-  std::string Write(const std::string& name, const std::string& text) {
-    std::ofstream(dir_ / name) << text;
-    return (dir_ / name).string();
   }
   // A small job: `extra_job` lines go into [job], `parameters` replaces the two gains.
   std::string Job(const std::string& extra_job = "", const std::string& parameters = "") {
@@ -104,7 +72,6 @@ class TuneTest : public ::testing::Test {
       EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
     }
   }
-  fs::path dir_;
 };
 
 TEST_F(TuneTest, JobLoadsWithCurrentValuesAsInitial) {
@@ -241,7 +208,7 @@ TEST_F(TuneTest, MoreBadJobs) {
   EXPECT_NE(RegexFilterProblem("x{1000,99999}"), "");
   // The CLI: exit 2, the file and the key in the message, nothing written.
   std::string output;
-  EXPECT_EQ(RunCli("tune " +
+  EXPECT_EQ(RunCliCode("tune " +
                        Job("algorithm = \"sbplx\"\n",
                            "[[parameter]]\npath = \"controller.k_pp\"\nlower = 0\nupper = 1\n") +
                        " --out " + (dir_ / "out").string(),
@@ -249,9 +216,9 @@ TEST_F(TuneTest, MoreBadJobs) {
             2);
   EXPECT_NE(output.find("job.toml:10: 'controller.k_pp'"), std::string::npos) << output;
   EXPECT_FALSE(fs::exists(dir_ / "out"));
-  EXPECT_EQ(RunCli("tune " + Job("algorithm = \"simplex\"\n"), &output), 2);
-  EXPECT_EQ(RunCli("tune " + Job() + " --shard 3/2", &output), 2);
-  EXPECT_EQ(RunCli("tune " + Job() + " --resume --force", &output), 2);
+  EXPECT_EQ(RunCliCode("tune " + Job("algorithm = \"simplex\"\n"), &output), 2);
+  EXPECT_EQ(RunCliCode("tune " + Job() + " --shard 3/2", &output), 2);
+  EXPECT_EQ(RunCliCode("tune " + Job() + " --resume --force", &output), 2);
 }
 
 TEST_F(TuneTest, ObjectiveTermsFollowTheirDefinitions) {
@@ -311,7 +278,7 @@ TEST_F(TuneTest, ThreadsDoNotChangeTheResultAndTheBestIsTheMinimum) {
 TEST_F(TuneTest, KilledJobResumesToTheSameResult) {
   const std::string job = Job();
   const std::string whole = (dir_ / "whole").string(), cut = (dir_ / "cut").string();
-  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + whole), 0);
+  ASSERT_EQ(RunCliCode("tune " + job + " -q --no-html --out " + whole), 0);
   // Killed (SIGKILL) after 3 evaluations, in the middle of writing the 4th row.
   const std::string command = "RABBIT_TUNE_KILL_AFTER=3 " + std::string(RABBIT_CLI_PATH) +
                               " tune " + job + " -q --no-html --out " + cut + " > /dev/null 2>&1";
@@ -322,18 +289,18 @@ TEST_F(TuneTest, KilledJobResumesToTheSameResult) {
   const std::string partial = ReadText(fs::path(cut) / "evaluations.csv");
   EXPECT_NE(partial.back(), '\n');  // a row cut short
   std::string output;
-  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + cut, &output), 0) << output;
+  ASSERT_EQ(RunCliCode("tune " + job + " --no-html --resume --out " + cut, &output), 0) << output;
   EXPECT_NE(output.find("replayed   3 evaluations"), std::string::npos) << output;
   EXPECT_EQ(ReadText(fs::path(cut) / "best.toml"), ReadText(fs::path(whole) / "best.toml"));
   EXPECT_EQ(WithoutLastColumn(ReadText(fs::path(cut) / "evaluations.csv")),
             WithoutLastColumn(ReadText(fs::path(whole) / "evaluations.csv")));
   EXPECT_EQ(ReadText(fs::path(cut) / "runs.csv"), ReadText(fs::path(whole) / "runs.csv"));
   // A second resume replays everything and runs nothing.
-  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + cut, &output), 0);
+  ASSERT_EQ(RunCliCode("tune " + job + " --no-html --resume --out " + cut, &output), 0);
   EXPECT_NE(output.find("replayed   6 evaluations"), std::string::npos) << output;
   // A changed job does not resume another's log.
   const std::string changed = Job("seed = 2\n");
-  EXPECT_EQ(RunCli("tune " + changed + " --no-html --resume --out " + cut, &output), 2);
+  EXPECT_EQ(RunCliCode("tune " + changed + " --no-html --resume --out " + cut, &output), 2);
   EXPECT_NE(output.find("fingerprint"), std::string::npos) << output;
 }
 
@@ -342,8 +309,8 @@ TEST_F(TuneTest, ResumeDropsTheRunsOfAFirstEvaluationWithoutItsRow) {
   // must not hold those runs twice (a later resume would refuse it).
   const std::string job = Job();
   const std::string whole = (dir_ / "whole").string(), cut = (dir_ / "cut").string();
-  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + whole), 0);
-  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + cut), 0);
+  ASSERT_EQ(RunCliCode("tune " + job + " -q --no-html --out " + whole), 0);
+  ASSERT_EQ(RunCliCode("tune " + job + " -q --no-html --out " + cut), 0);
   for (const char* name : {"best.toml", "comparison.csv", "parameters.csv", "meta.csv"}) {
     fs::remove(fs::path(cut) / name);
   }
@@ -358,9 +325,9 @@ TEST_F(TuneTest, ResumeDropsTheRunsOfAFirstEvaluationWithoutItsRow) {
   ASSERT_EQ(first_run.rfind("0,", 0), 0u) << first_run;
   std::ofstream(fs::path(cut) / "runs.csv") << runs_header << "\n" << first_run << "\n";
   std::string output;
-  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + cut, &output), 0) << output;
+  ASSERT_EQ(RunCliCode("tune " + job + " --no-html --resume --out " + cut, &output), 0) << output;
   EXPECT_EQ(ReadText(fs::path(cut) / "runs.csv"), ReadText(fs::path(whole) / "runs.csv"));
-  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + cut, &output), 0) << output;
+  ASSERT_EQ(RunCliCode("tune " + job + " --no-html --resume --out " + cut, &output), 0) << output;
   EXPECT_NE(output.find("replayed   6 evaluations"), std::string::npos) << output;
   EXPECT_EQ(ReadText(fs::path(cut) / "best.toml"), ReadText(fs::path(whole) / "best.toml"));
 }
@@ -370,10 +337,11 @@ TEST_F(TuneTest, ResumeWithSomeShardsMissingLogsInTheOrderOfOneRun) {
   // both in request order, as one run does.
   const std::string job = Job("starts = 2\n");
   const std::string whole = (dir_ / "whole").string(), sharded = (dir_ / "sharded").string();
-  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + whole), 0);
-  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --shard 2/2 --out " + sharded), 0);
+  ASSERT_EQ(RunCliCode("tune " + job + " -q --no-html --out " + whole), 0);
+  ASSERT_EQ(RunCliCode("tune " + job + " -q --no-html --shard 2/2 --out " + sharded), 0);
   std::string output;
-  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + sharded, &output), 0) << output;
+  ASSERT_EQ(RunCliCode("tune " + job + " --no-html --resume --out " + sharded, &output), 0)
+      << output;
   EXPECT_NE(output.find("replayed   3 evaluations"), std::string::npos) << output;
   EXPECT_EQ(WithoutLastColumn(ReadText(fs::path(sharded) / "evaluations.csv")),
             WithoutLastColumn(ReadText(fs::path(whole) / "evaluations.csv")));
@@ -384,12 +352,13 @@ TEST_F(TuneTest, ResumeWithSomeShardsMissingLogsInTheOrderOfOneRun) {
 TEST_F(TuneTest, ShardsMergeToTheSameResult) {
   const std::string job = Job("starts = 2\n");
   const std::string whole = (dir_ / "whole").string(), sharded = (dir_ / "sharded").string();
-  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + whole), 0);
-  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --shard 2/2 --out " + sharded), 0);
-  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --shard 1/2 --out " + sharded), 0);
+  ASSERT_EQ(RunCliCode("tune " + job + " -q --no-html --out " + whole), 0);
+  ASSERT_EQ(RunCliCode("tune " + job + " -q --no-html --shard 2/2 --out " + sharded), 0);
+  ASSERT_EQ(RunCliCode("tune " + job + " -q --no-html --shard 1/2 --out " + sharded), 0);
   EXPECT_FALSE(fs::exists(fs::path(sharded) / "best.toml"));
   std::string output;
-  ASSERT_EQ(RunCli("tune " + job + " --no-html --resume --out " + sharded, &output), 0) << output;
+  ASSERT_EQ(RunCliCode("tune " + job + " --no-html --resume --out " + sharded, &output), 0)
+      << output;
   EXPECT_NE(output.find("replayed   6 evaluations"), std::string::npos) << output;
   EXPECT_EQ(ReadText(fs::path(sharded) / "best.toml"), ReadText(fs::path(whole) / "best.toml"));
   EXPECT_EQ(WithoutLastColumn(ReadText(fs::path(sharded) / "evaluations.csv")),
@@ -399,15 +368,16 @@ TEST_F(TuneTest, ShardsMergeToTheSameResult) {
 TEST_F(TuneTest, BestTomlReproducesTheBestEvaluationInRabbitRun) {
   const std::string job = Job();
   const fs::path out = dir_ / "tune";
-  ASSERT_EQ(RunCli("tune " + job + " -q --no-html --out " + out.string()), 0);
+  ASSERT_EQ(RunCliCode("tune " + job + " -q --no-html --out " + out.string()), 0);
   // The suite with the job's base overlay and best.toml's values: rabbit run sees one overlay,
   // so merge them (best.toml holds the base's values too).
   const std::string best = ReadText(out / "best.toml");
   EXPECT_NE(best.find("\"simulation.duration\" = 12"), std::string::npos) << best;
   const fs::path report = dir_ / "report";
-  ASSERT_EQ(RunCli("run " + kRoot + "/scenarios/tune_ramp.toml --filter '^ramp_up$' -q --no-html" +
-                   " --params " + (out / "best.toml").string() + " --out " + report.string()),
-            0);
+  ASSERT_EQ(
+      RunCliCode("run " + kRoot + "/scenarios/tune_ramp.toml --filter '^ramp_up$' -q --no-html" +
+                 " --params " + (out / "best.toml").string() + " --out " + report.string()),
+      0);
   const CsvTable summary = CsvTable::Read((report / "summary.csv").string());
   const CsvTable meta = CsvTable::Read((out / "meta.csv").string());
   const CsvTable runs = CsvTable::Read((out / "runs.csv").string());

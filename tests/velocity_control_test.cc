@@ -14,6 +14,7 @@
 #include <stdexcept>
 
 #include "rabbit/io/error.h"
+#include "suite_fixture.h"
 #include "rabbit/scenario/suite.h"
 
 namespace rabbit {
@@ -131,39 +132,16 @@ TEST(VelocityControlTest, ParamsValidation) {
 }
 
 // [controller.velocity_control] keys: read, in degrees at the edge, errors naming file, line, key.
-class VelocityControlKeysTest : public ::testing::Test {
+class VelocityControlKeysTest : public testing::SuiteFileTest {
  protected:
-  void SetUp() override {
-    dir_ = std::filesystem::temp_directory_path() /
-           ("rabbit_velocity_control_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    std::filesystem::create_directories(dir_);
-  }
-  void TearDown() override { std::filesystem::remove_all(dir_); }
+  VelocityControlKeysTest() : SuiteFileTest("rabbit_velocity_control_test") {}
+  // The walker suite with `keys` in [defaults.controller.velocity_control] (line 12).
   std::string Write(const std::string& keys) {
-    const std::string root = RABBIT_SOURCE_DIR;
-    const std::string path = (dir_ / "suite.toml").string();
-    std::ofstream(path) << "[suite]\nname = \"t\"\n[defaults.simulation]\nduration = 2.0\n"
-                        << "[defaults.velocity]\nvalue = 0.6\n[defaults.controller]\n"
-                        << "type = \"fuzzy_cmac\"\nfll = \"" << root
-                        << "/gaits/gait_pattern.fll\"\nnetworks = \"" << root
-                        << "/gaits/networks\"\ngaits = \"" << root << "/gaits/reference\"\n"
-                        << "[defaults.controller.velocity_control]\n"  // line 12
-                        << keys << "[[scenario]]\nname = \"a\"\n";
-    return path;
+    return SuiteFileTest::Write(testing::WalkerKeysSuite("velocity_control", keys));
   }
   void ExpectError(const std::string& keys, const std::string& key) {
-    const std::string path = Write(keys);
-    try {
-      LoadSuite(path);
-      ADD_FAILURE() << "no error for:\n" << keys;
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.file(), path);
-      EXPECT_EQ(e.line(), 13) << e.what();
-      EXPECT_EQ(e.key(), key) << e.what();
-    }
+    ExpectSuiteError(testing::WalkerKeysSuite("velocity_control", keys), 13, key, "");
   }
-  std::filesystem::path dir_;
 };
 
 TEST_F(VelocityControlKeysTest, ReadAndValidated) {

@@ -16,7 +16,7 @@
 #include "rabbit/report/shards.h"
 #include "rabbit/report/suite_report.h"
 #include "rabbit/scenario/ranks.h"
-#include "tune_report.h"
+#include "rabbit/report/tune_report.h"
 
 namespace rabbit::cli {
 namespace {

@@ -5,9 +5,9 @@
 // half a report. The staging folder has a stable name (DIR.partial) and every run's folder in it a
 // completion marker written last, so that after a kill --resume runs only the runs without one (see
 // ClaimStaging). Under mpirun every rank loads and plans the same jobs, each rank takes the next
-// job whenever one of its threads is free, and rank 0 alone writes (rabbit/report/rank_batch.h). With --shard I/N only the
-// jobs i with i mod N = I - 1 run, into DIR/shards/I-of-N/, which rabbit report DIR merges
-// (rabbit/report/shards.h).
+// job whenever one of its threads is free, and rank 0 alone writes (rabbit/scenario/rank_batch.h).
+// With --shard I/N only the jobs i with i mod N = I - 1 run, into DIR/shards/I-of-N/, which rabbit
+// report DIR merges (rabbit/report/shards.h).
 #include <sched.h>
 #include <unistd.h>
 
@@ -36,8 +36,8 @@
 #include "rabbit/io/output_ownership.h"
 #include "rabbit/io/test_hooks.h"
 #include "rabbit/report/comparison.h"
-#include "rabbit/report/rank_batch.h"
-#include "rabbit/report/run_files.h"
+#include "rabbit/scenario/rank_batch.h"
+#include "rabbit/scenario/run_files.h"
 #include "rabbit/report/shards.h"
 #include "rabbit/report/suite_report.h"
 #include "rabbit/scenario/batch.h"

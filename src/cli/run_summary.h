@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "rabbit/report/rank_batch.h"
+#include "rabbit/scenario/rank_batch.h"
 #include "rabbit/scenario/batch.h"
 
 namespace rabbit::cli {

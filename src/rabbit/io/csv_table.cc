@@ -197,6 +197,15 @@ int CsvTable::Integer(size_t row, size_t column) const {
   return static_cast<int>(value);
 }
 
+int CsvTable::Flag(size_t row, size_t column, bool allow_missing) const {
+  const std::string_view text = Cell(row, column);
+  if (text == "1" || text == "true") return 1;
+  if (text == "0" || text == "false") return 0;
+  if (allow_missing && (text.empty() || text == "nan")) return -1;
+  throw InputError(file_, line(row), header_[column],
+                   "expected 1 or 0, got \"" + std::string(text) + "\"");
+}
+
 std::vector<double> CsvTable::Numbers(const std::string& name, CsvNumber policy) const {
   const size_t column = Column(name);
   std::vector<double> out(num_rows());

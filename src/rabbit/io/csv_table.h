@@ -50,6 +50,9 @@ class CsvTable {
   double Number(size_t row, size_t column, CsvNumber policy = CsvNumber::kFinite) const;
   // The cell as an integer (a number with no fractional part, within int range).
   int Integer(size_t row, size_t column) const;
+  // The cell as a flag: 1 for `1` or `true`, 0 for `0` or `false`, -1 for a missing value (empty
+  // or `nan`) when allow_missing; else InputError(file, line, column name, "expected 1 or 0").
+  int Flag(size_t row, size_t column, bool allow_missing = false) const;
   // A whole column by name (Column(name), then Number for every row).
   std::vector<double> Numbers(const std::string& name, CsvNumber policy = CsvNumber::kFinite) const;
 

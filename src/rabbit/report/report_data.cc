@@ -11,6 +11,7 @@
 #include "rabbit/io/csv.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/key_value_csv.h"
 
 namespace rabbit {
 namespace report_internal {
@@ -79,14 +80,7 @@ std::vector<SummaryRow> ReadSummary(const std::string& path) {
     row.outcome = table.Text(r, c_outcome);
     row.reason = table.Text(r, c_reason);
     row.failed = SplitOn(table.Text(r, c_failed), ';');
-    const std::string passed = table.Text(r, c_passed);
-    if (passed == "1" || passed == "true") {
-      row.passed = true;
-    } else if (passed == "0" || passed == "false") {
-      row.passed = false;
-    } else {
-      throw InputError(path, row.line, "passed", "expected 1 or 0, got \"" + passed + "\"");
-    }
+    row.passed = table.Flag(r, c_passed) == 1;
     if (row.scenario.empty()) throw InputError(path, row.line, "scenario", "empty scenario name");
     if (row.variant.empty()) throw InputError(path, row.line, "variant", "empty variant");
     if (!IsSafeFolderName(row.run)) {
@@ -137,24 +131,21 @@ std::vector<SummaryRow> ReadSummary(const std::string& path) {
 namespace {
 
 void ReadMeta(const std::string& path, RunData* run) {
-  const CsvTable table = CsvTable::Read(path);
-  const size_t c_key = table.Column("key"), c_value = table.Column("value");
-  std::map<std::string, std::pair<std::string, int>> meta;
-  for (size_t r = 0; r < table.num_rows(); ++r) {
-    meta[table.Text(r, c_key)] = {table.Text(r, c_value), table.line(r)};
-  }
+  const KeyValueCsv meta = KeyValueCsv::Read(path);
   auto length = [&](const char* key) {
-    const auto it = meta.find(key);
-    if (it == meta.end()) throw InputError(path, 0, key, "missing key");
-    const double value = ParseFiniteNumber(it->second.first, path, it->second.second, key);
-    if (!(value > 0.0)) throw InputError(path, it->second.second, key, "must be positive");
+    const double value = meta.Number(key);
+    if (!(value > 0.0)) throw InputError(path, meta.line(key), key, "must be positive");
     return value;
   };
   run->lengths.thigh = length("thigh_length_m");
   run->lengths.shin = length("shin_length_m");
   run->lengths.trunk = length("trunk_length_m");
-  const auto description = meta.find("description");
-  if (description != meta.end()) run->description = description->second.first;
+  if (meta.Has("description")) run->description = meta.Text("description");
+  run->weight_gaits.clear();
+  if (meta.Has("weight_gaits")) {
+    std::stringstream list(meta.Text("weight_gaits"));
+    for (std::string name; std::getline(list, name, ';');) run->weight_gaits.push_back(name);
+  }
 }
 
 // Rows whose coordinates are missing (`nan`: a run that diverged) are left out and counted.
@@ -204,8 +195,12 @@ void ReadSteps(const std::string& path, RunData* run) {
   const size_t c_q0_d = has_q0_d ? table.Column("q0_d_deg") : 0;
   const size_t c_rules = has_rules ? table.Column("rules") : 0;
   const std::vector<size_t> c_w = table.ColumnsWithPrefix("w_O");
+  // The gaits' names when meta.csv lists one per weight column, else the columns' own.
+  const bool named = run->weight_gaits.size() == c_w.size();
   run->weight_names.clear();
-  for (size_t c : c_w) run->weight_names.push_back(table.header()[c]);
+  for (size_t k = 0; k < c_w.size(); ++k) {
+    run->weight_names.push_back(named ? run->weight_gaits[k] : table.header()[c_w[k]]);
+  }
   for (size_t r = 0; r < table.num_rows(); ++r) {
     Step s;
     s.step = table.Integer(r, c_step);

@@ -66,7 +66,10 @@ struct RunData {
   LinkLengths lengths;
   Trajectory trajectory;
   std::vector<Step> steps;
-  std::vector<std::string> weight_names;  // w_O1, ...
+  // The weights' legends: the reference gaits' names from meta.csv's weight_gaits, or the
+  // columns' names (w_O1, ...) in a folder written without it.
+  std::vector<std::string> weight_names;
+  std::vector<std::string> weight_gaits;  // meta.csv's weight_gaits (empty: none, or absent)
   Tracking tracking;
   Terrain terrain;  // obstacles (terrain.csv) and ground profile (ground.csv)
 };

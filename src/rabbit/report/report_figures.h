@@ -1,7 +1,7 @@
 // The report's figures: the time windows they show, and the gnuplot scripts of the stick
 // diagrams, the per-step V_d / V_M / L_step plot, the joint tracking and the fuzzy weights, all
 // collected in one FigureSet and rendered by one gnuplot process. Implementation details of
-// WriteSuiteReport (suite_report.h); the tuning report (optimizers/tune_report.h) draws its
+// WriteSuiteReport (suite_report.h); the tuning report (tune_report.h) draws its
 // figures with FigureSet too.
 #ifndef RABBIT_REPORT_REPORT_FIGURES_H_
 #define RABBIT_REPORT_REPORT_FIGURES_H_

@@ -18,7 +18,7 @@
 #include "rabbit/io/error.h"
 #include "rabbit/io/output_ownership.h"
 #include "rabbit/report/comparison.h"
-#include "rabbit/report/run_files.h"
+#include "rabbit/scenario/run_files.h"
 #include "rabbit/scenario/suite.h"
 #include "rabbit/scenario/suite_inputs.h"
 

@@ -301,6 +301,7 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
     // the columns of the other variants.
     const std::vector<double> no_weights(library->gait_names.size(),
                                          std::numeric_limits<double>::quiet_NaN());
+    out.weight_gaits = library->gait_names;
     for (const WalkerStep& w : controller.steps()) {
       out.steps.push_back({w.step, w.v_d, w.v_m_used, w.d_obs, w.q0_d,
                            w.weights.empty() ? no_weights : w.weights,
@@ -317,6 +318,7 @@ RunOutput RunScenario(const Scenario& scenario, const std::string& variant,
       for (const std::string& name : library->gait_names) {
         weights.push_back(name == scenario.start_gait ? 1.0 : 0.0);
       }
+      out.weight_gaits = library->gait_names;
     }
     const double d_max = scenario.walker.d_obs_max;
     for (const StepRecord& s : controller.meter().steps()) {

@@ -124,6 +124,8 @@ struct RunOutput {
   SimResult sim;
   std::vector<StepRow> steps;
   std::vector<WalkerTrack> tracking;
+  // The reference gaits the steps' weights are over, in their order (empty: no weights).
+  std::vector<std::string> weight_gaits;
   RunMetrics metrics;
   bool passed = true;
   bool required = false;  // its pass decides the exit code: a required scenario's main variant

@@ -17,13 +17,18 @@
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/learn/fll.h"
+#include "rabbit/scenario/controller_keys.h"
+#include "rabbit/scenario/keys_internal.h"
 #include "rabbit/scenario/params.h"
+#include "rabbit/scenario/terrain_keys.h"
 #include "rabbit/scenario/walker_keys.h"
 
 namespace rabbit {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
+using keys_internal::kDeg;
+using keys_internal::Validate;
+
 constexpr double kMaxControlRate = 1e5;  // Hz
 constexpr double kMaxPeriods = 1e8;      // control periods in one run
 // A foot may start at most this deep in its surface (a computed pose on the ground sinks ~2 mm
@@ -80,12 +85,6 @@ void ReadModelFields(TomlReader* t, ModelParams* p) {
   p->gravity = t->Double("gravity", p->gravity);
 }
 
-template <typename Params>
-void Validate(const TomlReader& t, const Params& params) {
-  std::string error;
-  if (!params.IsValid(&error)) t.Fail("", error);
-}
-
 ContactParams ReadContact(TomlReader t) {
   ContactParams p;
   p.k_n = t.Double("k_n", p.k_n);
@@ -111,103 +110,6 @@ ActuatorParams ReadActuator(TomlReader t) {
   t.Finish();
   Validate(t, p);
   return p;
-}
-
-// [terrain]: a uniform slope (slope_deg, the tilted-gravity frame) or a ground profile
-// (slopes = [{x_start, slope_deg}, ...]), not both; vertical steps (steps = [{x_start, rise}, ...])
-// on the profile; obstacles on flat ground.
-Terrain ReadTerrain(TomlReader t, ModelParams* model) {
-  Terrain terrain;
-  model->slope = t.Double("slope_deg", model->slope / kDeg) * kDeg;
-  Validate(t, *model);
-  std::vector<SlopeBreak> breaks;
-  std::vector<TomlReader> rows = t.TableArray("slopes");
-  for (size_t i = 0; i < rows.size(); ++i) {
-    TomlReader& b = rows[i];
-    SlopeBreak brk;
-    brk.x_start = b.RequiredDouble("x_start");
-    const double slope_deg = b.RequiredDouble("slope_deg");
-    b.Finish();
-    if (std::abs(brk.x_start) > GroundProfile::kMaxAbsX) b.Fail("x_start", "beyond +-1e4 m");
-    if (!(std::abs(slope_deg * kDeg) < GroundProfile::kMaxSlope)) {
-      b.Fail("slope_deg", "must be below 30 deg in magnitude");
-    }
-    if (i > 0 && !(brk.x_start > breaks.back().x_start)) {
-      char message[120];
-      std::snprintf(message, sizeof message,
-                    "breakpoints must be in increasing x_start (the previous one is at %g m)",
-                    breaks.back().x_start);
-      b.Fail("x_start", message);
-    }
-    brk.slope = slope_deg * kDeg;
-    breaks.push_back(brk);
-  }
-  if (!breaks.empty() && model->slope != 0.0) {
-    t.Fail("slopes",
-           "a ground profile does not combine with a uniform slope_deg (the tilted-gravity frame): "
-           "give one of them (a profile with one breakpoint before the walk is a uniform slope)");
-  }
-  // Vertical steps: breakpoints with a rise, on whatever slope the profile has there (one at a
-  // slope breakpoint's x_start joins it).
-  std::vector<TomlReader> steps = t.TableArray("steps");
-  double previous_step = -std::numeric_limits<double>::infinity();
-  for (size_t i = 0; i < steps.size(); ++i) {
-    TomlReader& st = steps[i];
-    const double x = st.RequiredDouble("x_start");
-    const double rise = st.RequiredDouble("rise");
-    st.Finish();
-    if (std::abs(x) > GroundProfile::kMaxAbsX) st.Fail("x_start", "beyond +-1e4 m");
-    if (!(x > previous_step)) {
-      char message[120];
-      std::snprintf(message, sizeof message,
-                    "steps must be in increasing x_start (the previous one is at %g m)",
-                    previous_step);
-      st.Fail("x_start", message);
-    }
-    previous_step = x;
-    if (rise == 0.0 || std::abs(rise) > GroundProfile::kMaxRise) {
-      st.Fail("rise", "a step's rise is nonzero and within +-1 m (+ up, - down)");
-    }
-    if (model->slope != 0.0) {
-      st.Fail("x_start",
-              "steps do not combine with a uniform slope_deg (the tilted-gravity frame): give the "
-              "slope as a ground profile ([[terrain.slopes]])");
-    }
-    auto at = std::lower_bound(breaks.begin(), breaks.end(), x,
-                               [](const SlopeBreak& b, double v) { return b.x_start < v; });
-    if (at != breaks.end() && at->x_start == x) {
-      at->rise = rise;
-    } else {
-      SlopeBreak brk;
-      brk.x_start = x;
-      brk.slope = at == breaks.begin() ? 0.0 : std::prev(at)->slope;
-      brk.rise = rise;
-      breaks.insert(at, brk);
-    }
-  }
-  if (!breaks.empty()) terrain.ground = GroundProfile(std::move(breaks));
-  std::vector<TomlReader> obstacles = t.TableArray("obstacles");
-  for (size_t i = 0; i < obstacles.size(); ++i) {
-    TomlReader& o = obstacles[i];
-    Obstacle obstacle;
-    obstacle.x_start = o.RequiredDouble("x_start");
-    obstacle.length = o.RequiredDouble("length");
-    obstacle.height = o.RequiredDouble("height");
-    o.Finish();
-    if (obstacle.length <= 0.0) o.Fail("length", "must be > 0");
-    if (obstacle.height <= 0.0) o.Fail("height", "must be > 0");
-    const GroundProfile& ground = terrain.ground;
-    const GroundSegment& under = ground.segment(ground.SegmentAt(obstacle.x_start));
-    if (under.slope != 0.0 || obstacle.x_end() > under.x_end) {
-      o.Fail("x_start",
-             "the obstacle stands on sloped ground (its span must lie on one flat part of "
-             "[terrain] slopes; its base is the ground's height there)");
-    }
-    terrain.obstacles.push_back(obstacle);
-  }
-  t.Finish();
-  Validate(t, terrain);
-  return terrain;
 }
 
 void ReadSimulation(TomlReader t, Scenario* s) {
@@ -310,75 +212,6 @@ void ReadInitial(TomlReader t, const Model& model, Scenario* s) {
   t.Finish();
 }
 
-const char* ControllerName(ControllerKind kind) {
-  switch (kind) {
-    case ControllerKind::kPdHold:
-      return "pd_hold";
-    case ControllerKind::kPragmatic:
-      return "pragmatic";
-    case ControllerKind::kFuzzyCmac:
-      return "fuzzy_cmac";
-    case ControllerKind::kPassive:
-      break;
-  }
-  return "passive";
-}
-
-// passive or pd_hold (ReadScenario has checked the type).
-void ReadController(TomlReader t, Scenario* s) {
-  const std::string type = t.String("type", "passive");
-  if (type == "passive") {
-    s->controller = ControllerKind::kPassive;
-  } else if (type == "pd_hold") {
-    s->controller = ControllerKind::kPdHold;
-    PdHoldParams& p = s->pd_hold;
-    // Gains: one number for all four joints, or four [hip1, knee1, hip2, knee2].
-    for (const char* key : {"kp", "kd"}) {
-      Vec4* out = std::string(key) == "kp" ? &p.kp : &p.kd;
-      if (t.IsArray(key)) {
-        const std::vector<double> v = t.Doubles(key, {}, 4);
-        *out = Vec4(v[0], v[1], v[2], v[3]);
-      } else {
-        *out = Vec4::Constant(t.Double(key, (*out)[0]));
-      }
-    }
-    const std::vector<double> target = t.Doubles(
-        "target_deg",
-        {s->q0[kQ11] / kDeg, s->q0[kQ12] / kDeg, s->q0[kQ21] / kDeg, s->q0[kQ22] / kDeg}, 4);
-    p.target = Vec4(target[0], target[1], target[2], target[3]) * kDeg;
-    Validate(t, p);
-  }
-  t.Finish();
-}
-
-// type = "pragmatic": the five rules, from a gait file (`gait`, relative to the scenario) and/or
-// single keys; the walk starts from WalkingStartState.
-void ReadPragmatic(TomlReader* t, Scenario* s) {
-  s->controller = ControllerKind::kPragmatic;
-  GaitSpec& spec = s->walking;
-  const std::string gait = t->String("gait", "");
-  if (!gait.empty()) {
-    spec = ReadGaitFile((std::filesystem::path(t->Directory()) / gait).string()).spec;
-  }
-  PragmaticParams& r = spec.rules;
-  r.qr1_dsw = t->Double("qr1_dsw_deg", r.qr1_dsw / kDeg) * kDeg;
-  r.qi2_dsw = t->Double("qi2_dsw_deg", r.qi2_dsw / kDeg) * kDeg;
-  r.q0_d = t->Double("q0_d_deg", r.q0_d / kDeg) * kDeg;
-  r.pulse_torque = t->Double("pulse_torque", r.pulse_torque);
-  r.pulse_start = t->Double("pulse_start", r.pulse_start);
-  r.pulse_duration = t->Double("pulse_duration", r.pulse_duration);
-  r.hip_kp = t->Double("hip_kp", r.hip_kp);
-  r.hip_kd = t->Double("hip_kd", r.hip_kd);
-  r.trunk_kp = t->Double("trunk_kp", r.trunk_kp);
-  r.trunk_kd = t->Double("trunk_kd", r.trunk_kd);
-  r.knee_kp = t->Double("knee_kp", r.knee_kp);
-  r.knee_kd = t->Double("knee_kd", r.knee_kd);
-  spec.start_speed = t->Double("start_speed", spec.start_speed);
-  spec.start_angle = t->Double("start_angle_deg", spec.start_angle / kDeg) * kDeg;
-  t->Finish();
-  Validate(*t, spec);
-}
-
 // [velocity]: profile = "constant" (value = V_d) | "ramp" | "steps" (points = [[t_s, v_m_s], ...]).
 VelocityProfile ReadVelocity(TomlReader t) {
   VelocityProfile v;
@@ -408,48 +241,6 @@ VelocityProfile ReadVelocity(TomlReader t) {
   std::string error;
   if (!v.IsValid(&error)) t.Fail("points", error);
   return v;
-}
-
-std::vector<TrunkPush> ReadPushes(TomlReader* root) {
-  std::vector<TrunkPush> pushes;
-  for (TomlReader& t : root->TableArray("push")) {
-    TrunkPush p;
-    // When: a start time, or an event (a touchdown, the hip passing a point, or both).
-    const bool on_event = t.Has("after_touchdown") || t.Has("at_hip_x");
-    if (on_event && t.Has("start")) {
-      t.Fail("start",
-             "a push starts at `start` or on an event (after_touchdown, at_hip_x), "
-             "not both");
-    }
-    if (!on_event) p.start = t.RequiredDouble("start");
-    constexpr long kMaxTouchdown = 100000;
-    p.after_touchdown = static_cast<int>(t.Integer("after_touchdown", 0, 1, kMaxTouchdown));
-    if (t.Has("phase") && p.after_touchdown == 0) {
-      t.Fail("phase", "phase times a push after a touchdown: give after_touchdown = k too");
-    }
-    p.phase = t.Double("phase", 0.0);
-    if (!(p.phase >= 0.0 && p.phase <= 1.0)) t.Fail("phase", "a fraction of the step in [0, 1]");
-    if (t.Has("at_hip_x")) {
-      p.at_hip_x = t.Double("at_hip_x", 0.0);
-      if (std::abs(p.at_hip_x) > 1e4) t.Fail("at_hip_x", "beyond +-1e4 m");
-    }
-    p.duration = t.Double("duration", p.duration);
-    if (!(p.duration > 0.0)) t.Fail("duration", "must be > 0 s");
-    // How much: a force, or an impulse over the duration (force_x = impulse_n_s / duration).
-    if (t.Has("impulse_n_s")) {
-      if (t.Has("force_x")) t.Fail("impulse_n_s", "give force_x or impulse_n_s, not both");
-      p.force.x() = t.Double("impulse_n_s", 0.0) / p.duration;
-    } else {
-      p.force.x() = t.Double("force_x", 0.0);
-    }
-    p.force.y() = t.Double("force_y", 0.0);
-    p.height = t.Double("height", p.height);
-    t.Finish();
-    std::string error;
-    if (!p.IsValid(&error)) t.Fail("", error);
-    pushes.push_back(p);
-  }
-  return pushes;
 }
 
 PassCriteria ReadCriteria(TomlReader t) {
@@ -483,27 +274,6 @@ PassCriteria ReadCriteria(TomlReader t) {
     if (value < 0.0) t.Fail(key, "must be >= 0");
   }
   return c;
-}
-
-// [controller], merged over the layers (a suite's scenario over its defaults) unless a layer names
-// a different `type` than a lower one: then it is read from the layers above that lower one only,
-// since the lower layers' keys belong to another controller.
-TomlReader ControllerTable(TomlReader* root) {
-  const std::vector<const toml::table*>& layers = root->layers();
-  std::string type;
-  for (size_t i = 0; i < layers.size(); ++i) {
-    const toml::node* table = layers[i]->get("controller");
-    const toml::node* node =
-        table != nullptr && table->is_table() ? table->as_table()->get("type") : nullptr;
-    if (node == nullptr || !node->is_string()) continue;
-    const std::string here = node->as_string()->get();
-    if (type.empty()) {
-      type = here;
-    } else if (here != type) {
-      return root->TableFromLayers("controller", i);
-    }
-  }
-  return root->Table("controller");
 }
 
 }  // namespace

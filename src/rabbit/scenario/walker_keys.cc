@@ -17,20 +17,15 @@
 #include "rabbit/gait/walker_settings.h"
 #include "rabbit/io/error.h"
 #include "rabbit/learn/fll.h"
+#include "rabbit/scenario/keys_internal.h"
 #include "rabbit/scenario/slope_keys.h"
 #include "rabbit/scenario/stall_recovery_keys.h"
 
 namespace rabbit {
 namespace {
 
-constexpr double kDeg = M_PI / 180.0;
-
-// Any parameter struct with IsValid(std::string*): an invalid one fails the table.
-template <typename Params>
-void Validate(const TomlReader& t, const Params& params) {
-  std::string error;
-  if (!params.IsValid(&error)) t.Fail("", error);
-}
+using keys_internal::kDeg;
+using keys_internal::Validate;
 
 std::string ResolvePath(const TomlReader& t, const std::string& path) {
   const std::filesystem::path p(path);

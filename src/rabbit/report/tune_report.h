@@ -24,8 +24,8 @@
 // weights, suites, best against initial objective), the convergence plot, the parameter traces,
 // best against initial per scenario, and the tables of parameters, of the comparison per
 // scenario and of every evaluation.
-#ifndef RABBIT_OPTIMIZERS_TUNE_REPORT_H_
-#define RABBIT_OPTIMIZERS_TUNE_REPORT_H_
+#ifndef RABBIT_REPORT_TUNE_REPORT_H_
+#define RABBIT_REPORT_TUNE_REPORT_H_
 
 #include <string>
 #include <vector>
@@ -49,4 +49,4 @@ void WriteTuneReport(const std::string& dir, const TuneReportOptions& options,
 
 }  // namespace rabbit
 
-#endif  // RABBIT_OPTIMIZERS_TUNE_REPORT_H_
+#endif  // RABBIT_REPORT_TUNE_REPORT_H_

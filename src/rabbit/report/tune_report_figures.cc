@@ -24,7 +24,7 @@
 #include "rabbit/report/report_page.h"
 #include "rabbit/report/suite_report.h"
 #include "rabbit/report/svg.h"
-#include "tune_report_data.h"
+#include "rabbit/report/tune_report_data.h"
 
 namespace rabbit::tune_report_internal {
 

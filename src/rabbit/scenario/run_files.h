@@ -12,8 +12,8 @@
 //   DIR/<run>/ground.csv     x_start_m,slope_deg,height_m: the ground profile's breakpoints
 //                            (slope from x_start on, positive descending; height at x_start);
 //                            no rows: flat ground y = 0
-#ifndef RABBIT_REPORT_RUN_FILES_H_
-#define RABBIT_REPORT_RUN_FILES_H_
+#ifndef RABBIT_SCENARIO_RUN_FILES_H_
+#define RABBIT_SCENARIO_RUN_FILES_H_
 
 #include <string>
 #include <vector>
@@ -33,4 +33,4 @@ const std::vector<std::string>& WallTimeColumns();
 
 }  // namespace rabbit
 
-#endif  // RABBIT_REPORT_RUN_FILES_H_
+#endif  // RABBIT_SCENARIO_RUN_FILES_H_

@@ -1,6 +1,6 @@
 // What a tuning job wrote (tune_report_data.h), read strictly: every error names the file, line
 // and column.
-#include "tune_report_data.h"
+#include "rabbit/report/tune_report_data.h"
 
 #include <algorithm>
 #include <array>
@@ -21,28 +21,19 @@
 #include "rabbit/io/csv.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/key_value_csv.h"
 #include "rabbit/report/gnuplot.h"
 #include "rabbit/report/report_figures.h"
 #include "rabbit/report/report_page.h"
 #include "rabbit/report/suite_report.h"
 #include "rabbit/report/svg.h"
-#include "tune_report_data.h"
+#include "rabbit/report/tune_report_data.h"
 
 namespace rabbit::tune_report_internal {
 
 namespace fs = std::filesystem;
 
 namespace {
-
-// 1/0 (or true/false); -1 for an allowed missing value (empty or nan).
-int ReadFlag(const CsvTable& table, size_t row, size_t column, bool allow_missing) {
-  const std::string text = table.Text(row, column);
-  if (text == "1" || text == "true") return 1;
-  if (text == "0" || text == "false") return 0;
-  if (allow_missing && (text.empty() || text == "nan")) return -1;
-  throw InputError(table.file(), table.line(row), table.header()[column],
-                   "expected 1 or 0, got \"" + text + "\"");
-}
 
 Terms ReadTerms(const CsvTable& table, size_t row, const std::array<size_t, kTerms>& columns) {
   Terms terms{};
@@ -59,34 +50,16 @@ std::array<size_t, kTerms> TermColumns(const CsvTable& table, const std::string&
 }
 
 Meta ReadMeta(const std::string& path) {
-  const CsvTable table = CsvTable::Read(path);
-  const size_t c_key = table.Column("key"), c_value = table.Column("value");
+  const KeyValueCsv kv = KeyValueCsv::Read(path);
   Meta meta;
-  std::map<std::string, size_t> rows;
-  for (size_t r = 0; r < table.num_rows(); ++r) {
-    const std::string key = table.Text(r, c_key);
-    const auto [it, inserted] = rows.emplace(key, r);
-    if (!inserted) {
-      throw InputError(path, table.line(r), "key",
-                       "\"" + key + "\" also on line " + std::to_string(table.line(it->second)));
-    }
-  }
-  auto row_of = [&](const std::string& key) {
-    const auto it = rows.find(key);
-    if (it == rows.end()) throw InputError(path, 0, key, "missing key");
-    return it->second;
-  };
-  auto text = [&](const std::string& key) { return table.Text(row_of(key), c_value); };
+  auto text = [&](const std::string& key) { return kv.Text(key); };
   // An evaluation number, or none yet (empty or nan: a job stopped before its first candidate).
   auto eval = [&](const std::string& key) -> std::optional<int> {
-    const size_t r = row_of(key);
-    const std::string t = table.Text(r, c_value);
+    const std::string t = kv.Text(key);
     if (t.empty() || t == "nan") return std::nullopt;
-    return table.Integer(r, c_value);
+    return kv.Integer(key);
   };
-  auto number = [&](const std::string& key) {
-    return table.Number(row_of(key), c_value, CsvNumber::kFiniteOrNan);
-  };
+  auto number = [&](const std::string& key) { return kv.Number(key, CsvNumber::kFiniteOrNan); };
   meta.job = text("job");
   meta.description = text("description");
   meta.job_file = text("job_file");
@@ -99,14 +72,14 @@ Meta ReadMeta(const std::string& path) {
   meta.suites = text("suites");
   meta.evaluations = text("evaluations");
   meta.fingerprint = text("fingerprint");
-  if (rows.count("guards") != 0) meta.guards = text("guards");  // optional: older jobs
+  if (kv.Has("guards")) meta.guards = text("guards");  // optional: older jobs
   meta.initial_eval = eval("initial_eval");
   meta.best_eval = eval("best_eval");
   meta.initial_objective = number("initial_objective");
   meta.best_objective = number("best_objective");
   const std::string complete = text("complete");
   if (complete != "true" && complete != "false") {
-    throw InputError(path, table.line(row_of("complete")), "complete",
+    throw InputError(path, kv.line("complete"), "complete",
                      "expected true or false, got \"" + complete + "\"");
   }
   meta.complete = complete == "true";
@@ -181,7 +154,7 @@ std::vector<Evaluation> ReadEvaluations(const std::string& path,
     for (size_t c : c_params) e.params.push_back(table.Number(r, c, CsvNumber::kFiniteOrNan));
     e.error = table.Text(r, c_error);
     if (c_guards) {
-      e.guards_run = ReadFlag(table, r, *c_guards, false);
+      e.guards_run = table.Flag(r, *c_guards);
       e.guard_broken = table.Text(r, *c_broken);
     }
     e.wall = table.Number(r, c_wall, CsvNumber::kFiniteOrNan);
@@ -204,7 +177,7 @@ void ReadRuns(const std::string& path, const std::set<int>& evals, const Meta& m
       throw InputError(path, table.line(r), "eval",
                        "evaluation " + std::to_string(eval) + " is not in evaluations.csv");
     }
-    ReadFlag(table, r, c_passed, false);
+    table.Flag(r, c_passed);
     ReadTerms(table, r, c_terms);
     const std::pair<std::string, std::string> key{table.Text(r, c_suite),
                                                   table.Text(r, c_scenario)};
@@ -228,8 +201,8 @@ std::vector<ComparisonRow> ReadComparison(const std::string& path) {
     ComparisonRow row;
     row.suite = table.Text(r, c_suite);
     row.scenario = table.Text(r, c_scenario);
-    row.initial_passed = ReadFlag(table, r, c_initial_passed, true);
-    row.best_passed = ReadFlag(table, r, c_best_passed, true);
+    row.initial_passed = table.Flag(r, c_initial_passed, true);
+    row.best_passed = table.Flag(r, c_best_passed, true);
     row.initial = ReadTerms(table, r, c_initial);
     row.best = ReadTerms(table, r, c_best);
     out.push_back(std::move(row));

@@ -1,7 +1,7 @@
 // The tuning report's parts (tune_report.h): what the job wrote, read strictly
 // (tune_report_data.cc), its figures (tune_report_figures.cc) and the page (tune_report.cc).
-#ifndef RABBIT_OPTIMIZERS_TUNE_REPORT_DATA_H_
-#define RABBIT_OPTIMIZERS_TUNE_REPORT_DATA_H_
+#ifndef RABBIT_REPORT_TUNE_REPORT_DATA_H_
+#define RABBIT_REPORT_TUNE_REPORT_DATA_H_
 
 #include <array>
 #include <filesystem>
@@ -142,4 +142,4 @@ std::optional<size_t> ComparisonFigure(const TuneData& data, const std::vector<i
 
 }  // namespace rabbit::tune_report_internal
 
-#endif  // RABBIT_OPTIMIZERS_TUNE_REPORT_DATA_H_
+#endif  // RABBIT_REPORT_TUNE_REPORT_DATA_H_

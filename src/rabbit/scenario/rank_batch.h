@@ -8,8 +8,8 @@
 // is RunBatch writing the folders. Each run's folder gets its completion marker (kRunMarker) last,
 // also on the way to rank 0, so a folder without one is a run cut short (rabbit run --resume runs
 // it again; it removes the markers once the report is complete).
-#ifndef RABBIT_REPORT_RANK_BATCH_H_
-#define RABBIT_REPORT_RANK_BATCH_H_
+#ifndef RABBIT_SCENARIO_RANK_BATCH_H_
+#define RABBIT_SCENARIO_RANK_BATCH_H_
 
 #include <cstddef>
 #include <functional>
@@ -58,4 +58,4 @@ RankBatchResult RunBatchOverRanks(const std::vector<BatchJob>& jobs, const std::
 
 }  // namespace rabbit
 
-#endif  // RABBIT_REPORT_RANK_BATCH_H_
+#endif  // RABBIT_SCENARIO_RANK_BATCH_H_

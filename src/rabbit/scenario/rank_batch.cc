@@ -1,4 +1,4 @@
-#include "rabbit/report/rank_batch.h"
+#include "rabbit/scenario/rank_batch.h"
 
 #include <stdlib.h>
 
@@ -22,7 +22,7 @@
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
-#include "rabbit/report/run_files.h"
+#include "rabbit/scenario/run_files.h"
 #include "rabbit/scenario/ranks.h"
 
 namespace rabbit {

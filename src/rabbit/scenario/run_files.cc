@@ -1,4 +1,4 @@
-#include "rabbit/report/run_files.h"
+#include "rabbit/scenario/run_files.h"
 
 #include <cmath>
 #include <filesystem>
@@ -29,6 +29,13 @@ std::string PushesText(const std::vector<TrunkPush>& pushes, const std::vector<d
   return out;
 }
 
+// The reference gaits of the weights columns, `;`-separated (gait names never hold one).
+std::string WeightGaitsText(const std::vector<std::string>& gaits) {
+  std::string text;
+  for (const std::string& g : gaits) text += (text.empty() ? "" : ";") + g;
+  return text;
+}
+
 }  // namespace
 
 void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::string& dir) {
@@ -47,7 +54,8 @@ void WriteRunFiles(const Scenario& scenario, const RunOutput& run, const std::st
         << FormatCsvCell(PushesText(scenario.pushes, run.sim.push_starts)) << "\nv_m_noise_std_m_s,"
         << FormatCsvNumber(scenario.walker.v_m_noise) << "\nd_obs_noise_std_m,"
         << FormatCsvNumber(scenario.walker.d_obs_noise) << "\noutcome,"
-        << OutcomeName(run.sim.outcome) << "\nreason," << FormatCsvCell(run.sim.reason) << "\n";
+        << OutcomeName(run.sim.outcome) << "\nreason," << FormatCsvCell(run.sim.reason)
+        << "\nweight_gaits," << FormatCsvCell(WeightGaitsText(run.weight_gaits)) << "\n";
   });
   WriteTrajectoryCsvFile(run.sim, (base / "trajectory.csv").string());
   size_t gaits = 0;

@@ -1,6 +1,6 @@
 // The tuning job's report page (tune_report.h): the header, the sections around the three
 // figures and the tables, over the job's files as tune_report_data.h reads them.
-#include "tune_report.h"
+#include "rabbit/report/tune_report.h"
 
 #include <algorithm>
 #include <array>
@@ -26,7 +26,7 @@
 #include "rabbit/report/report_page.h"
 #include "rabbit/report/suite_report.h"
 #include "rabbit/report/svg.h"
-#include "tune_report_data.h"
+#include "rabbit/report/tune_report_data.h"
 
 namespace rabbit {
 namespace {
