@@ -99,7 +99,7 @@ TEST_F(GaitBuildTest, TheShippedDatabaseIsWhatTheBuildMakes) {
   EXPECT_EQ(files, files_of(dir_ / "db"));
   EXPECT_EQ(files.size(), manifest.rows.size() + 1u);  // the manifest lists all but itself
   for (const std::string& file : files) {
-    EXPECT_EQ(Bytes(dir_ / "db" / file), Bytes(shipped / file)) << file;
+    EXPECT_EQ(ReadText(dir_ / "db" / file), ReadText(shipped / file)) << file;
   }
 }
 
