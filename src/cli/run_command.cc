@@ -5,9 +5,9 @@
 // half a report. The staging folder has a stable name (DIR.partial) and every run's folder in it a
 // completion marker written last, so that after a kill --resume runs only the runs without one (see
 // ClaimStaging). Under mpirun every rank loads and plans the same jobs, each rank takes the next
-// job whenever one of its threads is free, and rank 0 alone writes (rabbit/report/rank_batch.h). With --shard I/N only the
-// jobs i with i mod N = I - 1 run, into DIR/shards/I-of-N/, which rabbit report DIR merges
-// (rabbit/report/shards.h).
+// job whenever one of its threads is free, and rank 0 alone writes (rabbit/report/rank_batch.h).
+// With --shard I/N only the jobs i with i mod N = I - 1 run, into DIR/shards/I-of-N/, which rabbit
+// report DIR merges (rabbit/report/shards.h).
 #include <sched.h>
 #include <unistd.h>
 
@@ -28,10 +28,11 @@
 
 #include "cli/commands.h"
 #include "cli/data_root.h"
-#include "cli/run_summary.h"
 #include "cli/flag_checks.h"
+#include "cli/run_summary.h"
 #include "rabbit/gait/database_layout.h"
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/output_ownership.h"
 #include "rabbit/io/test_hooks.h"
@@ -86,10 +87,7 @@ std::string StagingMarkerText(const std::string& suite, const std::string& plan,
 }
 
 std::string ReadSmallFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return ReadBoundedFileIfExists(path.string(), kMarkerFileLimits);
 }
 
 // Rank 0's hold on a suite's output: the lock (OutputLock, on the folder finally written), held
