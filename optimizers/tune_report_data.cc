@@ -258,7 +258,9 @@ TuneData ReadTuneData(const fs::path& root) {
   }
   ReadRuns((root / "runs.csv").string(), evals, data.meta, &data);
   data.comparison = ReadComparison((root / "comparison.csv").string());
-  data.best_toml = ReadBoundedFileIfExists((root / "best.toml").string(), kTomlFileLimits);
+  if (fs::exists(root / "best.toml")) {  // optional: a job that has not finished has none
+    data.best_toml = ReadBoundedFile((root / "best.toml").string(), kTomlFileLimits);
+  }
   return data;
 }
 
