@@ -18,8 +18,10 @@
 #include "rabbit/gait/database_layout.h"
 #include "rabbit/gait/walker_settings.h"
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/sha256.h"
+#include "rabbit/io/test_hooks.h"
 #include "rabbit/scenario/batch.h"
 #include "rabbit/scenario/params.h"
 #include "rabbit/scenario/ranks.h"
@@ -39,12 +41,7 @@ constexpr double kAcceptedStepLengthError = 0.03;  // m
 // The staging folder inside the database: what a build makes before it replaces the files.
 constexpr const char* kStaging = ".build";
 
-std::string ReadBytes(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+std::string ReadBytes(const std::string& path) { return ReadBoundedFile(path, kGaitFileLimits); }
 
 void WriteBytes(const std::string& path, const std::string& bytes) {
   WriteFileAtomically(path, [&bytes](std::ostream& out) { out << bytes; });
@@ -60,8 +57,9 @@ std::vector<std::string> FilesBelow(const fs::path& root) {
   return files;
 }
 
-// Moves a finished staging folder's files into the database (manifest last), removes the files
-// the old manifest listed that the new one does not, then the staging folder.
+// Moves a finished staging folder's files into the database, removes the files the old manifest
+// listed that the new one does not, then moves the manifest (the commit is finished again from
+// the staging folder's manifest until then), then removes the staging folder.
 void Commit(const fs::path& out, const std::set<std::string>& old_files) {
   const fs::path staging = out / kStaging;
   const Manifest fresh = ReadManifest((staging / kManifestFile).string());
@@ -72,11 +70,12 @@ void Commit(const fs::path& out, const std::set<std::string>& old_files) {
     if (!fs::exists(from)) continue;  // moved by an interrupted commit already
     fs::create_directories((out / r.file).parent_path());
     fs::rename(from, out / r.file);
+    TestKillPoint("gaits-build-swapping");
   }
-  fs::rename(staging / kManifestFile, out / kManifestFile);
   for (const std::string& f : old_files) {
     if (now.count(f) == 0) fs::remove(out / f);
   }
+  fs::rename(staging / kManifestFile, out / kManifestFile);
   fs::remove_all(staging);
 }
 
@@ -400,6 +399,7 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
   }
   result.synthesis_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - synthesis_start).count();
+  if (Ranks::root()) TestKillPoint("gaits-build-synthesized");
   std::map<size_t, const SynthesisOutcome*> by_index;
   for (const SynthesisOutcome& o : all) {
     by_index[o.index] = &o;
@@ -463,8 +463,10 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
     }
     WriteGaitNetworks(TrainGaitNetworks(ordered, options.training),
                       (staging / kNetworksDir).string());
+    TestKillPoint("gaits-build-networks");
     WriteDefaultGaitPattern((staging / kReferenceDir).string(),
                             (staging / kGaitPatternFile).string());
+    TestKillPoint("gaits-build-fll");
     WriteWalkerSettings(walker, (staging / kWalkerSettingsFile).string());
     // The check: the targets' suite on the new database; each required scenario must pass.
     if (!targets.check_suite.empty()) {
@@ -498,9 +500,11 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
       manifest.rows.push_back(row);
     }
     WriteBytes((staging / kManifestFile).string(), ManifestText(manifest));
+    TestKillPoint("gaits-build-manifest");
     std::set<std::string> old_files;
     for (const ManifestRow& r : old.rows) old_files.insert(r.file);
     Commit(out, old_files);
+    TestKillPoint("gaits-build-committed");
   });
   code = result.missed.empty() && result.check_failures.empty() ? 0 : 1;
   result.code = std::stoi(Ranks::Broadcast(std::to_string(code)));

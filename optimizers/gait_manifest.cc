@@ -5,6 +5,7 @@
 #include <set>
 #include <sstream>
 
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/csv.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
@@ -36,11 +37,7 @@ std::string ManifestText(const Manifest& m) {
 }
 
 Manifest ReadManifest(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, 0, "", "cannot open the manifest");
-  std::stringstream buffer;
-  buffer << in.rdbuf();
-  const std::vector<std::string> lines = SplitLines(buffer.str());
+  const std::vector<std::string> lines = SplitLines(ReadBoundedFile(path, kManifestFileLimits));
   Manifest m;
   std::string table;  // the CSV part, comment lines left blank so that line numbers hold
   bool format_seen = false;
@@ -102,6 +99,23 @@ Manifest ReadManifest(const std::string& path) {
   return m;
 }
 
+bool IsLeftoverOfRabbit(const std::string& root, const std::string& rel) {
+  namespace fs = std::filesystem;
+  const fs::path path(rel);
+  const std::string name = path.filename().string();
+  auto ends_with = [&name](const std::string& suffix) {
+    return name.size() > suffix.size() &&
+           name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
+  if (rel.rfind(".build/", 0) == 0) return true;  // a build's staging folder
+  if (name[0] == '.' && (ends_with(".rabbit-lock") || ends_with(".rabbit-pending"))) return true;
+  // A staging folder of rabbit train at the root (networks.staging), recognised by its marker.
+  const std::string top = path.begin()->string();
+  std::error_code error;
+  return top.size() > 8 && top.compare(top.size() - 8, 8, ".staging") == 0 &&
+         fs::is_regular_file(fs::path(root) / top / ".rabbit-networks", error);
+}
+
 void VerifyManifest(const Manifest& m, const std::string& root, const std::string& manifest_path) {
   namespace fs = std::filesystem;
   std::set<std::string> listed;
@@ -121,7 +135,7 @@ void VerifyManifest(const Manifest& m, const std::string& root, const std::strin
     if (rel == "manifest.csv" || rel == "README.md") continue;
     // Targets files kept beside the database (gaits/targets.toml): inputs, not made by the build.
     if (rel.find('/') == std::string::npos && fs::path(rel).extension() == ".toml") continue;
-    if (rel.rfind(".build/", 0) == 0) continue;  // a build's staging folder
+    if (IsLeftoverOfRabbit(root, rel)) continue;  // a killed writer's lock, staging or build folder
     if (listed.count(rel) == 0) {
       throw InputError(manifest_path, 0, rel,
                        "the database holds a file its manifest does not list");

@@ -37,9 +37,14 @@ std::string ManifestText(const Manifest& manifest);  // rows in the given order
 // Reads root/manifest.csv. Throws InputError (file, line, key) for a missing or wrong format
 // line, unknown columns or kinds, a bad hash, a path leaving the root, a file listed twice.
 Manifest ReadManifest(const std::string& path);
+// Whether the file `rel` (relative to a database's root) is one a writer of rabbit leaves behind
+// when killed, and the next one removes or ignores: a lock file (.NAME.rabbit-lock), a pending
+// gait or index (.NAME.rabbit-pending), a file of a build's staging folder (.build/) or of a
+// marked staging folder of rabbit train (networks.staging/).
+bool IsLeftoverOfRabbit(const std::string& root, const std::string& rel);
 // Checks that every file the manifest lists exists under root with its hash, and that root holds
-// no file it does not list (but README.md and targets files, *.toml, at the root). Throws
-// InputError naming the first disagreement.
+// no file it does not list (but README.md, targets files (*.toml) at the root and
+// IsLeftoverOfRabbit). Throws InputError naming the first disagreement.
 void VerifyManifest(const Manifest& manifest, const std::string& root,
                     const std::string& manifest_path);
 

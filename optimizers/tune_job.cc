@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/scenario/batch.h"
@@ -30,10 +31,7 @@ constexpr AlgorithmName kAlgorithms[] = {
 constexpr double kDefaultMissing[kNumTuneTerms] = {1.0, 1.0, 0.5, 0.0, 5.0, 0.0};
 
 std::string FileText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return ReadBoundedFileIfExists(path, kTomlFileLimits);
 }
 
 std::uint64_t Fnv1a(const std::string& text, std::uint64_t h) {

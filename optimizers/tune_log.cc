@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
 #include "rabbit/scenario/params.h"
@@ -71,11 +72,8 @@ std::string CompleteLines(const std::string& text) {
   return end == std::string::npos ? "" : text.substr(0, end + 1);
 }
 
-std::string ReadText(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+std::string ReadText(const fs::path& path, const FileLimits& limits) {
+  return ReadBoundedFileIfExists(path.string(), limits);
 }
 
 std::map<std::pair<int, int>, Evaluation> ParseLog(const TuneJob& job, const std::string& file,

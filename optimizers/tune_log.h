@@ -10,6 +10,7 @@
 #include <string>
 #include <utility>
 
+#include "rabbit/io/limits.h"
 #include "tune_job.h"
 #include "tuner.h"
 
@@ -25,7 +26,7 @@ std::string RunRows(const Evaluation& e);
 
 // The complete lines of a text (a line cut short by a crash is dropped).
 std::string CompleteLines(const std::string& text);
-std::string ReadText(const std::filesystem::path& path);
+std::string ReadText(const std::filesystem::path& path, const FileLimits& limits);
 
 // Evaluations recorded in a log (evaluations.csv and runs.csv texts), keyed by (start, seq).
 // Throws InputError naming `file` for a log of other columns or an inconsistent one.

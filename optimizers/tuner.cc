@@ -159,7 +159,7 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
       problem = dir.string() + " holds a log of this job: use --resume to continue it or " +
                 "--force to start over";
     } else if (has_log && options.resume) {
-      const std::string marker = ReadText(dir / kMarker);
+      const std::string marker = ReadText(dir / kMarker, kMarkerFileLimits);
       if (marker.find(job.fingerprint) == std::string::npos) {
         const std::string changed = ChangedInputs(marker, job.inputs);
         const bool named = !changed.empty() && marker.find("input = ") != std::string::npos;
@@ -176,8 +176,8 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
       if (!options.shard.active()) fs::remove_all(dir / "shards");
     }
     if (problem.empty() && options.resume) {
-      evaluations_text = CompleteLines(ReadText(dir / "evaluations.csv"));
-      runs_text = CompleteLines(ReadText(dir / "runs.csv"));
+      evaluations_text = CompleteLines(ReadText(dir / "evaluations.csv", kCsvTableLimits));
+      runs_text = CompleteLines(ReadText(dir / "runs.csv", kCsvTableLimits));
     }
   });
   problem = Ranks::Broadcast(problem);
@@ -210,7 +210,8 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
     for (const fs::directory_entry& entry : fs::directory_iterator(out / "shards")) {
       const fs::path e = entry.path() / "evaluations.csv";
       if (!fs::exists(e)) continue;
-      if (ReadText(entry.path() / kMarker).find(job.fingerprint) == std::string::npos) {
+      if (ReadText(entry.path() / kMarker, kMarkerFileLimits).find(job.fingerprint) ==
+          std::string::npos) {
         throw InputError(e.string(), 0, "", "a shard of another job (fingerprint differs)");
       }
       logs.push_back(e);
@@ -221,10 +222,11 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   std::istringstream shard_list(Ranks::Broadcast(shard_logs));
   for (std::string e; std::getline(shard_list, e);) {
     const fs::path p(e);
-    const std::string ev =
-        Ranks::Broadcast(Ranks::root() ? CompleteLines(ReadText(p)) : std::string());
+    const std::string ev = Ranks::Broadcast(
+        Ranks::root() ? CompleteLines(ReadText(p, kCsvTableLimits)) : std::string());
     const std::string ru = Ranks::Broadcast(
-        Ranks::root() ? CompleteLines(ReadText(p.parent_path() / "runs.csv")) : std::string());
+        Ranks::root() ? CompleteLines(ReadText(p.parent_path() / "runs.csv", kCsvTableLimits))
+                      : std::string());
     for (auto& [key, value] : ParseLog(job, e, ev, ru)) {
       if (recorded.count(key) == 0) foreign.emplace(key, std::move(value));
     }

@@ -459,6 +459,65 @@ std::vector<Case> Cases() {
                {"--filter", "not a usable regular expression", "RE2"},
                {},
                {"{D}/out"}});
+
+  // ---- Files rabbit wrote and reads back: bounded too, naming the file and the limit. ----
+  c.push_back({"manifest.csv: 5 MB (gaits build)",
+               [](const fs::path& d) {
+                 WriteText(d / "t.toml", "[[gait]]\nv_m = 0.3\n[[gait]]\nv_m = 0.4\n");
+                 Sparse(d / "db/manifest.csv", 5000000);
+               },
+               "gaits build {D}/t.toml -q --out {D}/db",
+               2,
+               {"{D}/db/manifest.csv", "larger than 4 MiB", "manifest files"},
+               {"{D}/t.toml"},
+               {"{D}/db/.build"}});
+  c.push_back({"walker.csv: 5 MB (a walker on the database)",
+               [](const fs::path& d) {
+                 Sparse(d / "db/walker.csv", 5000000);
+                 WriteText(d / "s.toml",
+                           WalkerScenario(kRoot + "/gaits/reference",
+                                          "database = \"" + (d / "db").string() + "\"\n"));
+               },
+               "simulate {D}/s.toml --out {D}/t.csv",
+               2,
+               {"{D}/db/walker.csv", "larger than 4 MiB", "walker settings files"},
+               {"{D}/s.toml"},
+               {"{D}/t.csv"}});
+  c.push_back({"shard marker: 2 MB (report merging shards)",
+               [](const fs::path& d) { Sparse(d / "rep/shards/1-of-1/.rabbit-shard", 2000000); },
+               "report {D}/rep",
+               2,
+               {"{D}/rep/shards/1-of-1/.rabbit-shard", "larger than 1 MiB", "marker files"},
+               {"{D}/rep"},
+               {"{D}/rep.merging"}});
+  c.push_back({"run staging marker: 2 MB (run --resume)",
+               [](const fs::path& d) {
+                 WriteText(d / "s.toml",
+                           "[suite]\nname = \"h\"\n[[scenario]]\nname = \"a\"\n" + kDropInSuite);
+                 Sparse(d / "out.partial/.rabbit-staging", 2000000);
+               },
+               "run {D}/s.toml --jobs 1 --no-html -q --resume --out {D}/out",
+               2,
+               {"{D}/out.partial/.rabbit-staging", "larger than 1 MiB", "marker files"},
+               {"{D}/out.partial"},
+               {"{D}/out"}});
+  c.push_back({"tuning job marker: 2 MB (tune --resume)",
+               [](const fs::path& d) {
+                 WriteText(d / "job.toml",
+                           "[job]\nsuites = [\"" + kRoot +
+                               "/scenarios/tune_ramp.toml\"]\nfilter = "
+                               "\"^ramp_up$\"\nmax_evaluations = 2\nalgorithm = \"sbplx\"\n"
+                               "[objective]\nspeed_error = 1.0\n[[parameter]]\n"
+                               "path = \"controller.k_p\"\nlower = 0.0\n"
+                               "upper = 0.6\n");
+                 Sparse(d / "job/.rabbit-tune", 2000000);
+                 WriteText(d / "job/evaluations.csv", "eval\n");
+               },
+               "tune {D}/job.toml -q --no-html --resume --out {D}/job",
+               2,
+               {"{D}/job/.rabbit-tune", "larger than 1 MiB", "marker files"},
+               {"{D}/job"},
+               {"{D}/job/best.toml"}});
   return c;
 }
 

@@ -17,10 +17,12 @@
 #include "gait_build.h"
 #include "gait_synthesis.h"
 #include "gait_targets.h"
+#include "rabbit/gait/database_commit.h"
 #include "rabbit/gait/database_layout.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/output_ownership.h"
+#include "rabbit/io/test_hooks.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/report/gait_report.h"
 #include "rabbit/scenario/ranks.h"
@@ -127,10 +129,12 @@ struct SynthesizeArgs {
 
 // Before any work: the database folder is rabbit's own (or new), the gait's file is a gait of
 // rabbit's (or new) under a name that is not one of the database's own files, and no other
-// rabbit writes the database meanwhile (the lock, held until the caller has written).
+// rabbit writes the database meanwhile (the database's one lock, on its root, held until the
+// caller has written). What a killed writer left in the reference folder is finished or removed.
 OutputLock ClaimGaitDatabase(const std::string& dir, const std::vector<std::string>& names) {
   CheckGaitDatabaseOutput("--gaits", dir);
-  OutputLock lock(dir, "--gaits");
+  const std::string root = DatabaseRootOf(dir);
+  OutputLock lock(root.empty() ? dir : root, "--gaits");
   CheckGaitDatabaseOutput("--gaits", dir);
   for (const std::string& name : names) {
     if (IsReservedGaitName(name)) {
@@ -141,6 +145,8 @@ OutputLock ClaimGaitDatabase(const std::string& dir, const std::vector<std::stri
     CheckOwnedFile("--gaits", std::filesystem::path(dir) / (name + ".csv"),
                    std::string("# format = ") + kGaitFormat, "a gait file of rabbit");
   }
+  FinishGaitCommit(dir);
+  TestKillPoint("gaits-claimed");
   return lock;
 }
 
@@ -242,7 +248,8 @@ int RunGenerate(const GenerateArgs& a) {
   std::vector<std::thread> threads;
   for (int j = 0; j < jobs; ++j) threads.emplace_back(worker);
   for (std::thread& t : threads) t.join();
-  int failures = 0, written = 0;
+  int failures = 0;
+  std::vector<GaitRecord> kept;
   for (size_t i = 0; i < records.size(); ++i) {
     if (!errors[i].empty()) std::fprintf(stderr, "target %zu: %s\n", i + 1, errors[i].c_str());
     failures += ok[i] ? 0 : 1;
@@ -253,9 +260,11 @@ int RunGenerate(const GenerateArgs& a) {
     }
     // A gait that misses the criteria never replaces a stored one, unless --force.
     if (records[i].swing.empty() || (!ok[i] && !a.force)) continue;
-    AddGaitToDatabase(records[i], reference);
-    ++written;
+    kept.push_back(records[i]);
   }
+  // Every gait and the index in one commit.
+  if (!kept.empty()) AddGaitsToDatabase(kept, reference);
+  const int written = static_cast<int>(kept.size());
   if (!a.quiet) {
     std::printf("wrote %d of %zu gaits in %s (%.1f s wall, %d jobs); %d missed the criteria\n",
                 written, records.size(), reference.c_str(),

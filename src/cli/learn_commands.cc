@@ -67,8 +67,10 @@ int RunTrain(const TrainArgs& a) {
   // The networks folder, its staging folder and the lock, before any work: only a folder of
   // networks rabbit wrote is replaced.
   const fs::path out(out_dir), staging = out.string() + ".staging";
-  const OutputLock lock = ClaimMarkedFolder("--out", out, staging, kNetworksMarker,
-                                            "a networks folder of rabbit train");
+  // Into a database (its networks/): the database's one lock, on its root.
+  const OutputLock lock =
+      ClaimMarkedFolder("--out", out, staging, kNetworksMarker, "a networks folder of rabbit train",
+                        DatabaseRootOf(out_dir));
   const std::vector<GaitIndexEntry> index =
       ReadGaitIndex((fs::path(reference) / "index.csv").string());
   std::vector<GaitRecord> gaits;
@@ -195,6 +197,13 @@ int RunFisGenerate(const std::string& gaits_dir, const std::string& out_flag, bo
                                     : ReferenceDirOf(GaitDatabaseRoot(gaits_dir));
   const std::string out = out_flag.empty() ? GaitPatternOf(GaitDatabaseRoot(gaits_dir)) : out_flag;
   if (!IsStandardOutput(out)) {  // a new file, or an FLL file to replace
+    CheckOwnedFile("--out", out, "Engine:", "an FLL file", /*skip_comments=*/true);
+  }
+  // Into a database: its one lock, on its root (else the file's own).
+  OutputLock lock;
+  if (!IsStandardOutput(out)) {
+    const std::string root = DatabaseRootOf(out);
+    lock = OutputLock(root.empty() ? out : root, "--out");
     CheckOwnedFile("--out", out, "Engine:", "an FLL file", /*skip_comments=*/true);
   }
   size_t n = 0;

@@ -43,6 +43,11 @@ int Report(const ReportArgs& args) {
                      std::string("is not a report of rabbit run or rabbit tune (no ") +
                          kReportMarker + ", " + kTuneMarker + " or shards/): nothing written");
   }
+  // What a killed merge left beside the folder (its runs are still in the shards, or already in
+  // the report): removed.
+  if (HasShards(args.dir) || HasMarker(MergeStagingFolder(args.dir), {kReportMarker})) {
+    ClearMergeStaging(args.dir);
+  }
   if (fs::exists(fs::path(args.dir) / ".rabbit-tune")) {  // a tuning job's folder
     if (!fs::exists(fs::path(args.dir) / "meta.csv")) {
       throw InputError(args.dir, 0, "",

@@ -28,10 +28,11 @@
 
 #include "cli/commands.h"
 #include "cli/data_root.h"
-#include "cli/run_summary.h"
 #include "cli/flag_checks.h"
+#include "cli/run_summary.h"
 #include "rabbit/gait/database_layout.h"
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/output_ownership.h"
 #include "rabbit/io/test_hooks.h"
@@ -86,10 +87,7 @@ std::string StagingMarkerText(const std::string& suite, const std::string& plan,
 }
 
 std::string ReadSmallFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+  return ReadBoundedFileIfExists(path.string(), kMarkerFileLimits);
 }
 
 // Rank 0's hold on a suite's output: the lock (OutputLock, on the folder finally written), held

@@ -15,6 +15,19 @@ std::string GaitDatabaseRoot(const std::string& dir) {
   return dir;
 }
 
+std::string DatabaseRootOf(const std::string& path) {
+  fs::path p = fs::path(path).lexically_normal();
+  if (p.filename().empty()) p = p.parent_path();
+  fs::path parent = p.parent_path();
+  if (parent.empty()) parent = fs::current_path();
+  std::error_code error;
+  if (p.filename() == kReferenceDir || fs::exists(parent / kReferenceDir, error) ||
+      fs::exists(parent / kManifestFile, error)) {
+    return parent.string();
+  }
+  return "";
+}
+
 std::string ReferenceDirOf(const std::string& root) {
   return (fs::path(root) / kReferenceDir).string();
 }

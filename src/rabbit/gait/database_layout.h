@@ -22,6 +22,10 @@ constexpr const char* kIndexFile = "index.csv";
 // reference/ folder (holds index.csv, no reference/ of its own, and is named reference), as
 // commands took before databases had a root.
 std::string GaitDatabaseRoot(const std::string& dir);
+// The database a written path belongs to, whose root every writer locks (one lock per database:
+// OutputLock(root)): the parent of `path` when `path` is a folder named reference or the parent
+// holds reference/ or manifest.csv (a database's networks/, its FLL file, ...); "" otherwise.
+std::string DatabaseRootOf(const std::string& path);
 // root/reference, root/networks, root/gait_pattern.fll.
 std::string ReferenceDirOf(const std::string& root);
 std::string NetworksDirOf(const std::string& root);

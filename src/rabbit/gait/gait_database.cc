@@ -331,34 +331,4 @@ std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path) {
   return entries;
 }
 
-std::string AddGaitToDatabase(const GaitRecord& gait, const std::string& dir) {
-  namespace fs = std::filesystem;
-  for (const std::string& field : {gait.name, gait.source}) {
-    if (field.find_first_of(",\n\r") != std::string::npos ||
-        field.find("..") != std::string::npos || field.find('/') != std::string::npos) {
-      throw InputError(dir, 0, field,
-                       "gait names and sources may not hold ',', '/', '..' or newlines");
-    }
-  }
-  const std::string file = gait.name + ".csv";
-  const std::string path = (fs::path(dir) / file).string();
-  const std::string index_path = (fs::path(dir) / "index.csv").string();
-  // Read (and so validate) the index before writing anything.
-  std::vector<GaitIndexEntry> entries;
-  if (fs::exists(index_path)) entries = ReadGaitIndex(index_path);
-  WriteGaitFile(gait, path);
-  entries.erase(std::remove_if(entries.begin(), entries.end(),
-                               [&](const GaitIndexEntry& e) { return e.name == gait.name; }),
-                entries.end());
-  entries.push_back({gait.name, file, gait.source, gait.target_v_m, gait.measured.v_m,
-                     gait.measured.l_step, gait.measured.t_step, gait.measured.steps, gait.role,
-                     gait.target_l_step});
-  std::sort(entries.begin(), entries.end(), [](const GaitIndexEntry& a, const GaitIndexEntry& b) {
-    return std::make_tuple(a.role, a.target_v_m, a.target_l_step, a.name) <
-           std::make_tuple(b.role, b.target_v_m, b.target_l_step, b.name);
-  });
-  WriteGaitIndex(entries, index_path);
-  return path;
-}
-
 }  // namespace rabbit

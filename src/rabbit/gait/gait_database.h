@@ -19,6 +19,7 @@
 namespace rabbit {
 
 constexpr const char* kGaitFormat = "rabbit-gait/1";
+constexpr const char* kGaitIndexFile = "index.csv";  // beside the gait files
 
 // What a gait is for. kSpeed: one of the gaits the chapter's walker blends over V_M (one per
 // speed; the gait pattern's fuzzy system and the walker use these only). kLibrary: one more step
@@ -64,7 +65,8 @@ void WriteGaitIndex(const std::vector<GaitIndexEntry>& entries, const std::strin
 std::vector<GaitIndexEntry> ReadGaitIndex(const std::string& path);  // throws InputError
 // Writes or replaces the gait's file in `dir` and its row in dir/index.csv (kept sorted: the
 // speed gaits first, by target velocity, then the library gaits by target velocity and step
-// length, so that the speed gaits' networks come first). Returns the gait file's path.
+// length, so that the speed gaits' networks come first), in one commit (database_commit.h).
+// Returns the gait file's path.
 std::string AddGaitToDatabase(const GaitRecord& gait, const std::string& dir);
 
 }  // namespace rabbit

@@ -27,7 +27,7 @@ void WriteWalkerSettings(const std::map<std::string, GaitWalkerSettings>& settin
 }
 
 std::map<std::string, GaitWalkerSettings> ReadWalkerSettings(const std::string& path) {
-  const CsvTable table = CsvTable::Read(path);
+  const CsvTable table = CsvTable::Read(path, kWalkerFileLimits);
   const std::vector<std::string>& known = WalkerSettingColumns();
   for (const std::string& column : table.header()) {
     if (column == "name") continue;

@@ -87,4 +87,10 @@ std::string ReadBoundedFile(const std::string& path, const FileLimits& limits) {
   return text;
 }
 
+std::string ReadBoundedFileIfExists(const std::string& path, const FileLimits& limits) {
+  struct stat status;
+  if (::lstat(path.c_str(), &status) != 0 && errno == ENOENT) return "";
+  return ReadBoundedFile(path, limits);
+}
+
 }  // namespace rabbit

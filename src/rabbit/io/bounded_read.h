@@ -17,6 +17,9 @@ namespace rabbit {
 // for the first line over limits.max_line_bytes or beyond limits.max_lines.
 std::string ReadBoundedFile(const std::string& path, const FileLimits& limits);
 
+// The same, but "" when nothing is at the path (for files a writer may not have made yet).
+std::string ReadBoundedFileIfExists(const std::string& path, const FileLimits& limits);
+
 // The line and line-count checks alone, on text already in memory (`file` names it in errors).
 void CheckLineLimits(std::string_view text, const std::string& file, const FileLimits& limits);
 

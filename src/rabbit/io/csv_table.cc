@@ -142,8 +142,10 @@ CsvTable CsvTable::Parse(const std::string& text, const std::string& file) {
   return table;
 }
 
-CsvTable CsvTable::Read(const std::string& path) {
-  return Parse(ReadBoundedFile(path, kCsvTableLimits), path);
+CsvTable CsvTable::Read(const std::string& path) { return Read(path, kCsvTableLimits); }
+
+CsvTable CsvTable::Read(const std::string& path, const FileLimits& limits) {
+  return Parse(ReadBoundedFile(path, limits), path);
 }
 
 bool CsvTable::HasColumn(const std::string& name) const {

@@ -11,6 +11,8 @@
 #include <string_view>
 #include <vector>
 
+#include "rabbit/io/limits.h"
+
 namespace rabbit {
 
 // What a numeric cell may hold besides a finite number.
@@ -28,7 +30,9 @@ class CsvTable {
   // UTF-8 byte-order mark and CRLF line ends are accepted.
   static CsvTable Parse(const std::string& text, const std::string& file);
   // Reads and parses the file at path; InputError(path, 0, "", ...) when it cannot be read.
-  static CsvTable Read(const std::string& path);
+  static CsvTable Read(const std::string& path);  // within kCsvTableLimits
+  // Within the given limits (rabbit/io/limits.h), named in the error.
+  static CsvTable Read(const std::string& path, const FileLimits& limits);
 
   const std::string& file() const { return file_; }
   const std::vector<std::string>& header() const { return header_; }

@@ -33,6 +33,14 @@ constexpr FileLimits kNetworkFileLimits = {"network files", 256 * kMiB, 5000000,
 // kMaxRecordedSamples samples, about 560 bytes each in trajectory.csv (a 1 GB file is refused).
 constexpr FileLimits kCsvTableLimits = {"CSV files", 768 * kMiB, 2000000, 1 * kMiB};
 
+// What rabbit writes for itself and reads back: the markers of its folders (report staging
+// folders, tuning jobs, shards; a staging marker lists every input file with its hash).
+constexpr FileLimits kMarkerFileLimits = {"marker files", 1 * kMiB, 20000, 64 * kKiB};
+// A gait database's manifest.csv (one row per file of the database).
+constexpr FileLimits kManifestFileLimits = {"manifest files", 4 * kMiB, 20000, 64 * kKiB};
+// A gait database's walker.csv (one row per gait).
+constexpr FileLimits kWalkerFileLimits = {"walker settings files", 4 * kMiB, 10000, 64 * kKiB};
+
 // A run keeps at most this many samples (duration / (control period * record_every)): a distance
 // run's default 600 s time limit at 1 kHz, every sample, fits.
 constexpr double kMaxRecordedSamples = 1e6;

@@ -62,6 +62,21 @@ std::string Kind(fs::file_type type) {
   }
 }
 
+// A folder whose entries are all pending files of a killed gait commit (".NAME.rabbit-pending":
+// a new database's first gaits): rabbit's own, and the next writer finishes or removes them.
+bool HoldsOnlyPendingFiles(const fs::path& dir) {
+  constexpr const char* kPending = ".rabbit-pending";
+  const size_t n = std::strlen(kPending);
+  for (const fs::directory_entry& entry : fs::directory_iterator(dir)) {
+    const std::string name = entry.path().filename().string();
+    if (name.size() <= n + 1 || name[0] != '.' || name.compare(name.size() - n, n, kPending) != 0 ||
+        !fs::is_regular_file(fs::symlink_status(entry.path()))) {
+      return false;
+    }
+  }
+  return true;
+}
+
 }  // namespace
 
 bool IsReservedGaitName(const std::string& name) { return name == "index" || name == "manifest"; }
@@ -100,7 +115,10 @@ void CheckGaitDatabaseOutput(const std::string& flag, const std::string& dir) {
   std::error_code ec;
   const fs::file_status status = fs::symlink_status(dir, ec);
   if (!fs::exists(status) || IsGaitDatabase(dir)) return;
-  if (fs::is_directory(status) && fs::is_empty(dir, ec)) return;
+  if (fs::is_directory(status) && (fs::is_empty(dir, ec) || HoldsOnlyPendingFiles(dir))) return;
+  // A new database whose first commit was decided (its pending index written) and then killed.
+  if (FirstLine(fs::path(dir) / ".index.csv.rabbit-pending").rfind(kGaitIndexHeader, 0) == 0)
+    return;
   throw InputError(flag, 0, dir,
                    fs::is_directory(status)
                        ? std::string("is not a gait database (no ") + kGaitManifest +
@@ -164,10 +182,11 @@ void ReplaceFolder(const fs::path& staging, const fs::path& target) {
 }
 
 OutputLock ClaimMarkedFolder(const std::string& flag, const fs::path& out, const fs::path& staging,
-                             const std::string& marker, const std::string& what) {
+                             const std::string& marker, const std::string& what,
+                             const fs::path& lock_on) {
   CheckOwnedFolder(flag, out, {marker}, what);
   CheckOwnedFolder(flag, staging, {marker}, "a staging folder of rabbit");
-  OutputLock lock(out, flag);
+  OutputLock lock(lock_on.empty() ? out : lock_on, flag);
   CheckOwnedFolder(flag, out, {marker}, what);
   return lock;
 }

@@ -35,8 +35,9 @@ bool HasMarker(const std::filesystem::path& dir, const std::vector<std::string>&
 void CheckOwnedFolder(const std::string& flag, const std::filesystem::path& path,
                       const std::vector<std::string>& markers, const std::string& what);
 
-// Throws InputError unless `dir` may receive gaits: missing, an empty folder or a gait database
-// (IsGaitDatabase).
+// Throws InputError unless `dir` may receive gaits: missing, an empty folder, a gait database
+// (IsGaitDatabase), or a folder holding only the pending files of a killed first commit, or its
+// decided pending index (rabbit/gait/database_commit.h).
 void CheckGaitDatabaseOutput(const std::string& flag, const std::string& dir);
 
 // Throws InputError unless `path` is missing or a regular file of the kind rabbit writes there,
@@ -65,10 +66,11 @@ class OutputLock;
 
 // For a command that writes a whole folder `out` through a staging folder beside it (named by the
 // caller): checks that both are rabbit's own (CheckOwnedFolder with `marker`), takes the output's
-// lock, and checks `out` again under it. Throws InputError, nothing touched, when not.
+// lock (of `lock_on` when given: the database `out` belongs to), and checks `out` again under it.
+// Throws InputError, nothing touched, when not.
 OutputLock ClaimMarkedFolder(const std::string& flag, const std::filesystem::path& out,
                              const std::filesystem::path& staging, const std::string& marker,
-                             const std::string& what);
+                             const std::string& what, const std::filesystem::path& lock_on = {});
 
 // Then: removes a staging folder a killed run left, creates it with `marker` first (so that a kill
 // at any moment leaves a folder the next run recognises and removes), calls write(), and puts it

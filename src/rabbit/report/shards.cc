@@ -14,9 +14,11 @@
 #include <system_error>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/output_ownership.h"
+#include "rabbit/io/test_hooks.h"
 #include "rabbit/report/comparison.h"
 #include "rabbit/scenario/run_files.h"
 #include "rabbit/scenario/suite.h"
@@ -29,12 +31,8 @@ namespace fs = std::filesystem;
 
 constexpr const char* kShardTag = "rabbit-shard/1";
 
-std::string ReadBytes(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path.string(), 0, "", "cannot be read");
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
+std::string ReadBytes(const fs::path& path, const FileLimits& limits) {
+  return ReadBoundedFile(path.string(), limits);
 }
 
 // FNV-1a (64 bits) over length-prefixed fields, so that no two sequences of fields collide by
@@ -92,7 +90,7 @@ struct FoundShard {
 
 void ReadShardSummary(FoundShard* found) {
   const fs::path path = found->folder / "summary.csv";
-  const std::string text = ReadBytes(path);
+  const std::string text = ReadBytes(path, kCsvTableLimits);
   const CsvTable table = CsvTable::Parse(text, path.string());
   std::vector<std::string> lines;
   std::istringstream in(text);
@@ -142,6 +140,16 @@ std::string ListSome(const std::vector<std::string>& names) {
   return out;
 }
 
+// A copy of the folder `from` at `to` whose files are hard links to the originals (one more name,
+// no bytes copied); copied where the file system cannot link.
+void LinkTree(const fs::path& from, const fs::path& to) {
+  std::error_code error;
+  fs::copy(from, to, fs::copy_options::recursive | fs::copy_options::create_hard_links, error);
+  if (!error) return;
+  fs::remove_all(to);
+  fs::copy(from, to, fs::copy_options::recursive);
+}
+
 }  // namespace
 
 std::string ReportMarkerText(const std::string& suite) {
@@ -158,8 +166,8 @@ std::string PlanFingerprint(const Suite& suite, const std::vector<BatchJob>& pla
   print.Add("rabbit-plan/1");
   print.Add(RABBIT_VERSION);
   print.Add(suite.name);
-  print.Add(ReadBytes(suite.file));
-  print.Add(params_path.empty() ? "" : ReadBytes(params_path));
+  print.Add(ReadBytes(suite.file, kTomlFileLimits));
+  print.Add(params_path.empty() ? "" : ReadBytes(params_path, kTomlFileLimits));
   // Every file the suite reads, by content (not by path: shards may run from other folders).
   for (const InputFile& f : HashInputFiles(SuiteInputFiles(suite))) print.Add(f.sha256);
   print.Add(std::to_string(plan.size()));
@@ -179,7 +187,7 @@ std::string ShardMarkerText(const ShardInfo& info) {
 }
 
 ShardInfo ReadShardMarker(const std::string& path) {
-  std::istringstream in(ReadBytes(path));
+  std::istringstream in(ReadBytes(path, kMarkerFileLimits));
   std::string line;
   if (!std::getline(in, line) || line != kShardTag) {
     throw InputError(path, 1, "", std::string("not a shard marker (expected ") + kShardTag + ")");
@@ -250,6 +258,27 @@ void CheckShardOutput(const std::string& dir, const Shard& shard) {
 }
 
 bool HasShards(const std::string& dir) { return fs::is_directory(fs::path(dir) / kShardsFolder); }
+
+fs::path MergeStagingFolder(const std::string& dir) {
+  fs::path base = fs::path(dir).lexically_normal();
+  if (base.filename().empty()) base = base.parent_path();
+  return base.string() + ".merging";
+}
+
+void ClearMergeStaging(const std::string& dir) {
+  const fs::path staging = MergeStagingFolder(dir);
+  std::error_code error;
+  const fs::file_status status = fs::symlink_status(staging, error);
+  if (!fs::exists(status)) return;
+  if (fs::is_directory(status) &&
+      (fs::is_empty(staging, error) || HasMarker(staging, {kReportMarker}))) {
+    RemoveOwnedFolder(staging);  // a killed merge's (its runs are still in the shards)
+    return;
+  }
+  throw InputError(staging.string(), 0, "",
+                   std::string("exists and is not a merge of rabbit report (no ") + kReportMarker +
+                       "): refusing to touch it; remove it yourself to merge " + dir);
+}
 
 MergedShards MergeShards(const std::string& dir_text,
                          const std::function<void(const std::string& staging)>& finish) {
@@ -365,14 +394,18 @@ MergedShards MergeShards(const std::string& dir_text,
     }
   }
 
-  // Valid: build the merged report beside DIR, then put it in DIR's place.
-  const fs::path staging = dir.string() + ".partial-" + std::to_string(::getpid());
-  std::vector<std::pair<fs::path, fs::path>> moved;  // from, to
+  // Valid: build the merged report beside DIR, then put it in DIR's place. The shards are not
+  // changed until that swap: the run folders are linked (or copied) into the staging folder, so
+  // a kill at any moment before it leaves them whole, and the next merge starts again. The staging
+  // folder carries the report marker from its first file on, and so does DIR before the swap (the
+  // old content, at the staging path after the swap, is then recognised while it is removed).
+  const fs::path staging = MergeStagingFolder(dir.string());
+  ClearMergeStaging(dir.string());
   try {
-    fs::remove_all(staging);
     fs::create_directories(staging);
     WriteFileAtomically((staging / kReportMarker).string(),
                         [&](std::ostream& out) { out << ReportMarkerText(first.suite); });
+    TestKillPoint("report-merge-staging");
     WriteFileAtomically((staging / "summary.csv").string(), [&](std::ostream& out) {
       out << SummaryHeader() << "\n";
       for (const std::string* row : rows) out << *row << "\n";
@@ -385,23 +418,32 @@ MergedShards MergeShards(const std::string& dir_text,
     if (fs::exists(found.front().folder / kMembersFile)) {
       fs::copy_file(found.front().folder / kMembersFile, staging / kMembersFile);
     }
+    bool first_run = true;
     for (const FoundShard& f : found) {
       for (const std::string& run : f.runs) {
-        fs::rename(f.folder / run, staging / run);
-        moved.emplace_back(f.folder / run, staging / run);
+        LinkTree(f.folder / run, staging / run);
+        if (first_run) TestKillPoint("report-merge-linking");
+        first_run = false;
       }
     }
+    TestKillPoint("report-merge-linked");
     finish(staging.string());
+    TestKillPoint("report-merge-written");
+    if (!fs::exists(dir / kReportMarker)) {
+      WriteFileAtomically((dir / kReportMarker).string(),
+                          [&](std::ostream& out) { out << ReportMarkerText(first.suite); });
+    }
   } catch (...) {
-    std::error_code ignored;
-    for (auto it = moved.rbegin(); it != moved.rend(); ++it)
-      fs::rename(it->second, it->first, ignored);
-    fs::remove_all(staging, ignored);
+    try {
+      RemoveOwnedFolder(staging);
+    } catch (const std::exception&) {  // the first error is the one to report
+    }
     throw;
   }
   // In DIR's place in one step; what is left of DIR (shards/ with their markers and summaries, an
-  // earlier report) goes.
+  // earlier report) goes, its report marker last.
   ReplaceFolder(staging, dir);
+  TestKillPoint("report-merge-replaced");
   merged.suite = first.suite;
   merged.count = count;
   return merged;

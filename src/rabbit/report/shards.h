@@ -18,6 +18,7 @@
 #define RABBIT_REPORT_SHARDS_H_
 
 #include <cstddef>
+#include <filesystem>
 #include <functional>
 #include <string>
 #include <vector>
@@ -69,6 +70,13 @@ void CheckShardOutput(const std::string& dir, const Shard& shard);
 // Whether DIR/shards exists (rabbit report then merges).
 bool HasShards(const std::string& dir);
 
+// The staging folder of a merge: DIR.merging beside DIR.
+std::filesystem::path MergeStagingFolder(const std::string& dir);
+// Removes a merge's staging folder that a killed merge left (marked with kReportMarker, or
+// empty); throws InputError, nothing touched, when something else is at that path. The caller
+// holds DIR's lock.
+void ClearMergeStaging(const std::string& dir);
+
 struct MergedShards {
   std::string suite;
   int count = 0;  // N
@@ -79,9 +87,11 @@ struct MergedShards {
 // Validates DIR/shards, changing nothing and throwing InputError naming what is missing or
 // inconsistent (a shard absent, another N, another suite or plan, a row or folder missing, DIR
 // holding anything but shards/ while not a report). Then builds the merged report in a staging
-// folder beside DIR (the marker, summary.csv in plan order, the run folders moved in, then
-// finish(staging), e.g. the page) and replaces DIR with it. If that fails, the run folders are
-// moved back into their shards.
+// folder beside DIR (MergeStagingFolder: the marker, summary.csv in plan order, the run folders
+// linked in, then finish(staging), e.g. the page) and replaces DIR with it in one step. The
+// shards are untouched until that step, so a failure or a kill before it loses nothing: the next
+// merge removes the staging folder (ClearMergeStaging) and starts again. Test kill points:
+// report-merge-staging, -linking, -linked, -written, -replaced.
 MergedShards MergeShards(const std::string& dir,
                          const std::function<void(const std::string& staging)>& finish);
 

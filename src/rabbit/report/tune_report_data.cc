@@ -18,6 +18,7 @@
 #include <utility>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/csv.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
@@ -230,11 +231,8 @@ TuneData ReadTuneData(const fs::path& root) {
   }
   ReadRuns((root / "runs.csv").string(), evals, data.meta, &data);
   data.comparison = ReadComparison((root / "comparison.csv").string());
-  std::ifstream toml(root / "best.toml", std::ios::binary);
-  if (toml) {
-    std::ostringstream text;
-    text << toml.rdbuf();
-    data.best_toml = text.str();
+  if (fs::exists(root / "best.toml")) {  // optional: a job that has not finished has none
+    data.best_toml = ReadBoundedFile((root / "best.toml").string(), kTomlFileLimits);
   }
   return data;
 }

@@ -20,6 +20,7 @@
 #include <thread>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
 #include "rabbit/scenario/run_files.h"
@@ -136,13 +137,7 @@ RunBrief Brief(size_t job, const std::string& suite, const RunOutput& run) {
   return brief;
 }
 
-std::string ReadFileText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (!in) throw InputError(path, 0, "", "cannot read");
-  return text.str();
-}
+std::string ReadFileText(const std::string& path) { return ReadBoundedFile(path, kCsvTableLimits); }
 
 // Written after the run's other files: its presence means they are all there.
 void WriteRunMarker(const std::string& dir, const RunBrief& brief) {
