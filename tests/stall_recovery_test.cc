@@ -99,6 +99,25 @@ TEST(StallRecoveryTest, CatchStepDrivesTheSwingWhileMovingBack) {
   EXPECT_FALSE(r.Catching(obs, 0));
 }
 
+TEST(StallRecoveryTest, CatchStepUsesTheHipsHeightAboveTheLocalGround) {
+  // The hip at y = 0.89 over a 4 cm step up: the pendulum's height is 0.85 m, as on flat ground
+  // with the hip at 0.85 m.
+  StallRecoveryParams p;
+  p.enabled = true;
+  StallRecovery r(p);
+  Terrain terrain;
+  terrain.ground = GroundProfile({{1.0, 0.0, 0.04}});
+  Observation obs = At(1.0, -0.4, false);
+  obs.q[kX] = 2.0;  // on the upper level, H = 0.04 m
+  obs.q[kY] = 0.85 + 0.04;
+  obs.terrain = &terrain;
+  r.Observe(obs, true);
+  ASSERT_TRUE(r.Catching(obs, 0));
+  Eigen::Vector4d ref(0.5, -0.8, 0.0, 0.0);
+  r.Apply(obs, 0, &ref);
+  EXPECT_NEAR(ref[0], r.CatchAngle(-0.4, 0.85) + 0.1, kTolerance);
+}
+
 TEST(StallRecoveryTest, DisabledChangesNothing) {
   StallRecoveryParams p;  // enabled = false by default
   StallRecovery r(p);

@@ -144,6 +144,7 @@ bool WalkerParams::IsValid(std::string* error) const {
   if (!slope.IsValid(error)) return false;
   if (!velocity_control.IsValid(error)) return false;
   if (!stall_recovery.IsValid(error)) return false;
+  if (!steps.IsValid(error)) return false;
   if (log_every < 0) {
     *error = "log_every must be >= 0";
     return false;
@@ -172,6 +173,7 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
       recovery_(params.recovery),
       slope_(params.slope),
       stall_(params.stall_recovery),
+      terrain_steps_(params.steps),
       warming_up_(params.warmup_steps > 0),
       stance_(stance_leg),
       q0_d_(params.q0_d_initial),
@@ -237,6 +239,11 @@ StepPlan FuzzyCmacWalker::PlanNextStep(const Observation& obs, const StepRecord&
       break;
     }
   }
+  // A step's face nearer than any obstacle is planned for as one (terrain_steps.h).
+  double face_length = 0.0;
+  const double face = terrain_steps_.FaceAhead(*obs.terrain, front, pp.horizon, pp.margin_before,
+                                               pp.margin_after, &face_length);
+  if (face < obs.terrain->DistanceToNextObstacle(front)) length = face_length;
   if (pp.follow_gait && d_obs <= pp.horizon && planner_l_gait_ < 0.0) FreezeGait();
   const StepPlannerParams ep = FollowGait(pp, planner_l_gait_ < 0.0 ? NAN : planner_l_gait_);
   StepPlan plan = PlanStep(ep, d_obs, length);
@@ -318,7 +325,14 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   // (clamping its V_M at 0 instead reads it as a standstill, and the velocity control then leans
   // the trunk forward by several degrees per backward step, into a fall).
   const bool measured = step.t_step > 0.0 && step.l_step > 0.0;
-  slope_.OnTouchdown(obs.foot_pos[step.leg], obs.foot_pos[1 - step.leg]);
+  const Vec2& other_foot = obs.foot_pos[1 - step.leg];
+  slope_.OnTouchdown(obs.terrain != nullptr ? terrain_steps_.LevelledLanding(
+                                                  *obs.terrain, obs.foot_pos[step.leg], other_foot)
+                                            : obs.foot_pos[step.leg],
+                     other_foot);
+  if (obs.terrain != nullptr) {
+    terrain_steps_.OnTouchdown(*obs.terrain, obs.t, obs.foot_pos[step.leg], other_foot);
+  }
   if (measured) {
     measured_.push_back(
         std::max(0.0, step.v_m + (p_.v_m_noise > 0.0 ? p_.v_m_noise * Gaussian() : 0.0)));
@@ -345,7 +359,11 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   StepPlan plan;
   if (p_.planner.enabled && obs.terrain != nullptr) {
     // The planner sees beyond d_obs_max (its horizon), with the same perception noise.
-    const double ahead = obs.terrain->DistanceToNextObstacle(front);
+    double face_length = 0.0;
+    const double ahead = std::min(obs.terrain->DistanceToNextObstacle(front),
+                                  terrain_steps_.FaceAhead(*obs.terrain, front, p_.planner.horizon,
+                                                           p_.planner.margin_before,
+                                                           p_.planner.margin_after, &face_length));
     plan = PlanNextStep(obs, step, front, std::max(0.0, ahead + d_noise));
   }
   // The foot lift is armed for the step over (the planner's, when it plans) and the trailing leg.
@@ -355,6 +373,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     for (const Obstacle& o : obs.terrain->obstacles) {
       if (back < o.x_end() && front > o.x_start) lift_armed_ = true;
     }
+    if (terrain_steps_.LiftArmed()) lift_armed_ = true;
   }
   WalkerStep record;
   record.step = step;
@@ -394,7 +413,8 @@ void FuzzyCmacWalker::ApplyLift(const Observation& obs, int sw_hip, Eigen::Vecto
   const Vec7& q = obs.q;
   const double l1 = p_.thigh_length, l2 = p_.shin_length;
   Eigen::Vector4d& r = *ref;
-  const double h = LiftHeight(*obs.terrain, obs.foot_pos[1 - stance_].x());
+  const double h = std::max(LiftHeight(*obs.terrain, obs.foot_pos[1 - stance_].x()),
+                            terrain_steps_.LiftHeight(*obs.terrain, obs.foot_pos[1 - stance_].x()));
   Eigen::Vector2d delta = Eigen::Vector2d::Zero();
   if (h > -std::numeric_limits<double>::infinity()) {
     // The pattern's foot point relative to the hip (absolute thigh and shin angles).
@@ -561,9 +581,10 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
       knee_kd += w[k] * p_.rule_share[k] * p_.gait_rules[k].knee_kd;
     }
   }
-  tau[2 * st + 1] = knee_kp * (stall_.StanceKnee(obs.t) - q[st_hip + 1]) - knee_kd * qd[st_hip + 1];
-  const double q0_d =
-      q0_d_ + recovery_.TrunkOffset(obs.t) + slope_.TrunkOffset() + stall_.TrunkOffset(obs.t);
+  const double knee_ref = stall_.StanceKnee(obs.t) + terrain_steps_.StanceKnee(obs.t);
+  tau[2 * st + 1] = knee_kp * (knee_ref - q[st_hip + 1]) - knee_kd * qd[st_hip + 1];
+  const double q0_d = q0_d_ + recovery_.TrunkOffset(obs.t) + slope_.TrunkOffset() +
+                      stall_.TrunkOffset(obs.t) + terrain_steps_.TrunkOffset();
   tau[2 * st] = p_.trunk_kp * (q0_d - q[kQ0]) - p_.trunk_kd * qd[kQ0];
   if (!tau.allFinite()) tau.setZero();  // NaN measurements: no torque (the run reports the fall)
   if (p_.log_every > 0 && periods_ % p_.log_every == 0) {

@@ -34,6 +34,7 @@
 #include "rabbit/control/slope_adaptation.h"
 #include "rabbit/control/stall_recovery.h"
 #include "rabbit/control/step_planner.h"
+#include "rabbit/control/terrain_steps.h"
 #include "rabbit/control/velocity_control.h"
 #include "rabbit/learn/fuzzy_cmac.h"
 #include "rabbit/learn/swing_pattern.h"
@@ -140,6 +141,8 @@ struct WalkerParams {
   std::vector<std::pair<double, double>> gait_pitches;
   // Stall recovery (stall_recovery.h; keys of [controller.stall_recovery]).
   StallRecoveryParams stall_recovery;
+  // Terrain-step handling (terrain_steps.h; keys of [controller.steps]).
+  TerrainStepParams steps;
   // Keep the tracking log (references and measurements) every n-th control period (0: none).
   int log_every = 1;
   bool IsValid(std::string* error) const;
@@ -215,6 +218,7 @@ class FuzzyCmacWalker final : public Controller {
   PushRecovery recovery_;
   SlopeAdaptation slope_;
   StallRecovery stall_;
+  TerrainSteps terrain_steps_;
   bool warming_up_;
   int stance_;
   double q0_d_;

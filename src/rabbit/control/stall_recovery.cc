@@ -91,7 +91,9 @@ void StallRecovery::Apply(const Observation& obs, int stance, Eigen::Vector4d* r
   Eigen::Vector4d& r = *ref;
   if (Catching(obs, stance)) {
     // The hip joint's angle is the thigh's absolute angle plus the trunk's pitch.
-    r << CatchAngle(obs.qd[kX], obs.q[kY]) + obs.q[kQ0], -p_.catch_knee, obs.qd[kQ0], 0.0;
+    // The pendulum's height is the hip's above the local ground (on a step or a ramp too).
+    const double ground = obs.terrain != nullptr ? obs.terrain->HeightAt(obs.q[kX]) : 0.0;
+    r << CatchAngle(obs.qd[kX], obs.q[kY] - ground) + obs.q[kQ0], -p_.catch_knee, obs.qd[kQ0], 0.0;
     return;
   }
   const double a = Strength(obs.t);

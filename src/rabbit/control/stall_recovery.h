@@ -9,7 +9,8 @@
 // catch step   while the hip moves backward faster than `catch_speed` and the swing foot is in
 //              the air, the swing thigh's reference is the absolute angle that puts a leg of
 //              length thigh + shin at the capture point of the linear inverted pendulum,
-//              x_cp = x_hip + xd sqrt(y / g), `catch_margin` behind it:
+//              x_cp = x_hip + xd sqrt(y / g) (y: the hip's height above the ground under it),
+//              `catch_margin` behind it:
 //                theta = asin(clamp((xd sqrt(y / g) - catch_margin) / (l1 + l2), +-catch_max)),
 //              with the knee flexed by `catch_knee`; the foot lands behind the stance foot (the
 //              push recovery's backward step) and stops the backward motion;

@@ -3,7 +3,7 @@
 //   adaptive  (the default) the best shipped walker: the chapter's control strategy with every
 //             mechanism this project adds that holds up on the training families (step planner,
 //             push recovery, slope adaptation, velocity control with a trunk-led transition,
-//             the FIS fed with the desired velocity).
+//             the FIS fed with the desired velocity, the terrain-step handling).
 //   chapter   the walker that reproduces the chapter's section 6 (the paper suite): its control
 //             strategy with only the departures its figures need (docs/design.md, "The walker"):
 //             no step planner, no slope adaptation, the chapter's q0_d law (push recovery stays

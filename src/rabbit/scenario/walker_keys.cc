@@ -20,6 +20,7 @@
 #include "rabbit/scenario/keys_internal.h"
 #include "rabbit/scenario/slope_keys.h"
 #include "rabbit/scenario/stall_recovery_keys.h"
+#include "rabbit/scenario/terrain_step_keys.h"
 
 namespace rabbit {
 namespace {
@@ -239,6 +240,9 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   ReadStallRecovery(t->Table("stall_recovery"), &w.stall_recovery);
   w.stall_recovery.thigh_length = model.thigh_length;
   w.stall_recovery.shin_length = model.shin_length;
+  ReadTerrainStepKeys(t->Table("steps"), &w.steps);
+  w.steps.thigh_length = model.thigh_length;
+  w.steps.shin_length = model.shin_length;
   w.thigh_length = model.thigh_length;
   w.shin_length = model.shin_length;
   {
