@@ -274,6 +274,23 @@ TEST_F(RefusalTest, EveryWriterRefusesWhatItDidNotMake) {
        2,
        "is a FIFO",
        {"{d}/fifo"}},
+      // A built database (the shipped one, copied) changes only through gaits build.
+      {"train into a built database",
+       [](RefusalTest* t) {
+         fs::copy(kRoot + "/gaits", t->Dir() / "built", fs::copy_options::recursive);
+       },
+       "train -q --gaits {d}/built",
+       2,
+       "made by rabbit gaits build",
+       {"{d}/built"}},
+      {"fis generate into a built database",
+       [](RefusalTest* t) {
+         fs::copy(kRoot + "/gaits", t->Dir() / "built", fs::copy_options::recursive);
+       },
+       "fis generate -q --gaits {d}/built --out {d}/built/gait_pattern.fll",
+       2,
+       "made by rabbit gaits build",
+       {"{d}/built"}},
   };
   for (const Refusal& row : table) {
     SCOPED_TRACE(row.name);

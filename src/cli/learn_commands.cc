@@ -29,6 +29,20 @@
 namespace rabbit::cli {
 namespace {
 
+// A database that rabbit gaits build made changes as a whole: its manifest lists every file's
+// hash, so networks or a fuzzy system written into it alone would leave it disagreeing with its
+// manifest (and refused by every command that reads it).
+void RefuseBuiltDatabase(const std::string& out) {
+  const std::string root = DatabaseRootOf(out);
+  if (!root.empty() && std::filesystem::exists(std::filesystem::path(root) / kManifestFile)) {
+    throw InputError("--out", 0, out,
+                     "is part of a database made by rabbit gaits build (" + root +
+                         "/manifest.csv lists its files): write elsewhere with --out, or change "
+                         "its targets file and build it again (rabbit gaits build TARGETS --out "
+                         "DIR resumes)");
+  }
+}
+
 constexpr double kDeg = M_PI / 180.0;
 // fis eval --vm: five times the fastest shipped gait, either way.
 constexpr double kMaxFlagSpeed = 5.0;  // m/s
@@ -66,6 +80,7 @@ int RunTrain(const TrainArgs& a) {
   const std::string out_dir = a.out.empty() ? NetworksDirOf(root) : a.out;
   // The networks folder, its staging folder and the lock, before any work: only a folder of
   // networks rabbit wrote is replaced.
+  RefuseBuiltDatabase(out_dir);
   const fs::path out(out_dir), staging = out.string() + ".staging";
   // Into a database (its networks/): the database's one lock, on its root.
   const OutputLock lock =
@@ -197,6 +212,7 @@ int RunFisGenerate(const std::string& gaits_dir, const std::string& out_flag, bo
                                     : ReferenceDirOf(GaitDatabaseRoot(gaits_dir));
   const std::string out = out_flag.empty() ? GaitPatternOf(GaitDatabaseRoot(gaits_dir)) : out_flag;
   if (!IsStandardOutput(out)) {  // a new file, or an FLL file to replace
+    RefuseBuiltDatabase(out);
     CheckOwnedFile("--out", out, "Engine:", "an FLL file", /*skip_comments=*/true);
   }
   // Into a database: its one lock, on its root (else the file's own).
