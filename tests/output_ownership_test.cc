@@ -4,12 +4,14 @@
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/error.h"
@@ -78,6 +80,30 @@ TEST_F(OutputOwnershipTest, GaitDatabasesAreRecognisedByManifestOrIndex) {
   EXPECT_TRUE(IsReservedGaitName("index"));
   EXPECT_TRUE(IsReservedGaitName("manifest"));
   EXPECT_FALSE(IsReservedGaitName("vm_0.50"));
+}
+
+TEST_F(OutputOwnershipTest, AtomicWriterRemovesTheTemporariesOfAKilledWriterOnly) {
+  // A process that has ended: its pid names no running process (until the system reuses it).
+  const pid_t child = ::fork();
+  ASSERT_GE(child, 0);
+  if (child == 0) ::_exit(0);
+  int status = 0;
+  ASSERT_EQ(::waitpid(child, &status, 0), child);
+  const std::string dead = std::to_string(child), alive = std::to_string(::getpid());
+  const fs::path file = Write("out.csv", "old");
+  const fs::path stale = Write("out.csv.tmp." + dead + ".42", "half");
+  const std::vector<fs::path> kept = {
+      Write("out.csv.tmp." + alive + ".7", "a live writer's"),  // this process is running
+      Write("other.csv.tmp." + dead + ".42", "another target's"),
+      Write("out.csv.tmp." + dead, "no suffix: not a name rabbit gives"),
+      Write("out.csv.tmp." + dead + ".4x", "not a number"),
+      Write("out.csv.tmp.mine.1", "the user's")};
+  fs::create_directories(dir_ / ("out.csv.tmp." + dead + ".43"));  // a folder is never removed
+  WriteFileAtomically(file.string(), [](std::ostream& o) { o << "new"; });
+  EXPECT_EQ(Read(file), "new");
+  EXPECT_FALSE(fs::exists(stale));
+  for (const fs::path& p : kept) EXPECT_TRUE(fs::exists(p)) << p;
+  EXPECT_TRUE(fs::is_directory(dir_ / ("out.csv.tmp." + dead + ".43")));
 }
 
 TEST_F(OutputOwnershipTest, AtomicWriterReplacesOnlyRegularFiles) {

@@ -12,7 +12,8 @@ namespace rabbit {
 // Creates missing parent directories, calls write(stream) on a temporary file and renames it to
 // path. Only a regular file is ever replaced: a folder, device, FIFO, socket or symbolic link at
 // the path is an InputError (naming it), and nothing is written. Throws std::runtime_error (naming
-// the file) when anything else fails; the temporary is removed.
+// the file) when anything else fails; the temporary is removed. The temporaries a killed writer of
+// the same path left (PATH.tmp.PID.N of a process that no longer runs) are removed first.
 void WriteFileAtomically(const std::string& path, const std::function<void(std::ostream&)>& write);
 
 // A command's single output file: "-" writes to standard output, anything else atomically.
