@@ -100,7 +100,7 @@ TEST_F(ParamsTest, OverlayReachesEveryScenarioDefaultsAndArrayElements) {
     const Scenario& s = tuned.scenarios[i];
     SCOPED_TRACE(s.name);
     EXPECT_DOUBLE_EQ(s.walker.k_p, 0.31);
-    EXPECT_DOUBLE_EQ(s.walker.lift_clearance, 0.07);
+    EXPECT_DOUBLE_EQ(s.walker.lift.clearance, 0.07);
     EXPECT_DOUBLE_EQ(s.walker.v_m_noise, 0.01);
     EXPECT_DOUBLE_EQ(s.walker.k_v, base.scenarios[i].walker.k_v);  // untouched
     EXPECT_FALSE(base.scenarios[i].fis.has_value());

@@ -251,10 +251,10 @@ height = 0.2
 TEST_F(SuiteTest, LiftKeepsRulesIsAControllerKey) {
   EXPECT_FALSE(LoadSuite(Write(Walker("[[scenario]]\nname = \"a\"\n")))
                    .scenarios[0]
-                   .walker.lift_keeps_rules);
+                   .walker.lift.keeps_rules);
   EXPECT_TRUE(LoadSuite(Write(Walker("lift_keeps_rules = true\n[[scenario]]\nname = \"a\"\n")))
                   .scenarios[0]
-                  .walker.lift_keeps_rules);
+                  .walker.lift.keeps_rules);
   ExpectError(Walker("lift_keeps_rules = 2\n[[scenario]]\nname = \"a\"\n"), 12,
               "scenario[1].controller.lift_keeps_rules", "");
 }

@@ -64,8 +64,8 @@ TEST(WalkerPresets, TheChapterDiffersFromTheAdaptiveWalkerOnlyWhereDocumented) {
   EXPECT_FALSE(c.velocity_control.enabled);
   EXPECT_FALSE(a.stall_recovery.enabled);
   EXPECT_FALSE(c.stall_recovery.enabled);
-  EXPECT_FALSE(a.lift_keeps_rules);
-  EXPECT_TRUE(c.lift_keeps_rules);
+  EXPECT_FALSE(a.lift.keeps_rules);
+  EXPECT_TRUE(c.lift.keeps_rules);
   EXPECT_EQ(a.fis_v_lead, 1.0);
   EXPECT_EQ(c.fis_v_lead, 1.0);
   // Everything else is shared: the PD gains, the velocity control, the push recovery.
@@ -87,26 +87,26 @@ TEST_F(WalkerPresetsTest, OnlyTheTypeGivesTheAdaptiveWalker) {
   EXPECT_EQ(s.preset, WalkerPreset::kAdaptive);
   EXPECT_TRUE(s.walker.planner.enabled);
   EXPECT_EQ(s.walker.fis_v_lead, 1.0);
-  EXPECT_FALSE(s.walker.lift_keeps_rules);
+  EXPECT_FALSE(s.walker.lift.keeps_rules);
 }
 
 TEST_F(WalkerPresetsTest, KeysAreReadOverThePreset) {
   const Scenario s = LoadScenario(Write("preset = \"chapter\"\nk_p = 0.3\n"));
   EXPECT_EQ(s.preset, WalkerPreset::kChapter);
   EXPECT_FALSE(s.walker.planner.enabled);
-  EXPECT_TRUE(s.walker.lift_keeps_rules);
+  EXPECT_TRUE(s.walker.lift.keeps_rules);
   EXPECT_EQ(s.walker.k_p, 0.3);
   const Scenario t = LoadScenario(Write(
       "preset = \"chapter\"\nlift_keeps_rules = false\n[controller.planner]\nenabled = true\n"));
   EXPECT_TRUE(t.walker.planner.enabled);
-  EXPECT_FALSE(t.walker.lift_keeps_rules);
+  EXPECT_FALSE(t.walker.lift.keeps_rules);
 }
 
 TEST_F(WalkerPresetsTest, TheChapterBaselineTakesTheScenariosKeys) {
   const Scenario s = LoadScenario(Write("baselines = [\"chapter\"]\nk_p = 0.3\n"));
   EXPECT_TRUE(s.walker.planner.enabled);
   EXPECT_FALSE(s.chapter_walker.planner.enabled);
-  EXPECT_TRUE(s.chapter_walker.lift_keeps_rules);
+  EXPECT_TRUE(s.chapter_walker.lift.keeps_rules);
   EXPECT_EQ(s.chapter_walker.k_p, 0.3);
   EXPECT_EQ(s.walker.k_p, 0.3);
   // The warm-up comes from the start gait for both.

@@ -71,12 +71,12 @@ bool WalkerParams::IsValid(std::string* error) const {
                                                    {"trunk_kp", trunk_kp},
                                                    {"trunk_kd", trunk_kd},
                                                    {"d_obs_max", d_obs_max},
-                                                   {"lift_clearance", lift_clearance},
-                                                   {"lift_d_obs", lift_d_obs},
-                                                   {"lift_lead", lift_lead},
-                                                   {"lift_trail", lift_trail},
-                                                   {"lift_ramp", lift_ramp},
-                                                   {"lift_release", lift_release},
+                                                   {"lift_clearance", lift.clearance},
+                                                   {"lift_d_obs", lift.d_obs},
+                                                   {"lift_lead", lift.lead},
+                                                   {"lift_trail", lift.trail},
+                                                   {"lift_ramp", lift.ramp},
+                                                   {"lift_release", lift.release},
                                                    {"v_m_noise", v_m_noise},
                                                    {"d_obs_noise", d_obs_noise}};
   for (const auto& [name, value] : values) {
@@ -360,14 +360,14 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   if (p_.planner.enabled && obs.terrain != nullptr) {
     // The planner sees beyond d_obs_max (its horizon), with the same perception noise.
     double face_length = 0.0;
-    const double ahead = std::min(obs.terrain->DistanceToNextObstacle(front),
-                                  terrain_steps_.FaceAhead(*obs.terrain, front, p_.planner.horizon,
-                                                           p_.planner.margin_before,
-                                                           p_.planner.margin_after, &face_length));
+    const double ahead = std::min(
+        obs.terrain->DistanceToNextObstacle(front),
+        terrain_steps_.FaceAhead(*obs.terrain, front, p_.planner.horizon, p_.planner.margin_before,
+                                 p_.planner.margin_after, &face_length));
     plan = PlanNextStep(obs, step, front, std::max(0.0, ahead + d_noise));
   }
   // The foot lift is armed for the step over (the planner's, when it plans) and the trailing leg.
-  lift_armed_ = plan.active ? plan.approach_steps == 0 : d_obs < p_.lift_d_obs;
+  lift_armed_ = plan.active ? plan.approach_steps == 0 : d_obs < p_.lift.d_obs;
   if (obs.terrain != nullptr) {
     const double back = obs.foot_pos[1 - step.leg].x();
     for (const Obstacle& o : obs.terrain->obstacles) {
@@ -391,19 +391,19 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
 
 double FuzzyCmacWalker::LiftHeight(const Terrain& terrain, double foot_x) const {
   double h = -std::numeric_limits<double>::infinity();
-  const double trail = p_.planner.enabled ? p_.planner.over_lift_trail : p_.lift_trail;
-  const double release = p_.planner.enabled ? p_.planner.over_lift_release : p_.lift_release;
+  const double trail = p_.planner.enabled ? p_.planner.over_lift_trail : p_.lift.trail;
+  const double release = p_.planner.enabled ? p_.planner.over_lift_release : p_.lift.release;
   for (size_t i = 0; i < terrain.obstacles.size(); ++i) {
     const Obstacle& o = terrain.obstacles[i];
-    const double lo = o.x_start - p_.lift_lead, hi = o.x_end() + trail;
+    const double lo = o.x_start - p_.lift.lead, hi = o.x_end() + trail;
     double a = 1.0;
-    if (foot_x < lo) a = p_.lift_ramp > 0.0 ? 1.0 - (lo - foot_x) / p_.lift_ramp : 0.0;
+    if (foot_x < lo) a = p_.lift.ramp > 0.0 ? 1.0 - (lo - foot_x) / p_.lift.ramp : 0.0;
     if (foot_x > hi) a = release > 0.0 ? 1.0 - (foot_x - hi) / release : 0.0;
     a = std::clamp(a, 0.0, 1.0);
     // Above the ground the obstacle stands on (absolute heights: the hip's y is absolute).
     if (a > 0.0) {
       h = std::max(h,
-                   terrain.ObstacleBase(static_cast<int>(i)) + a * (o.height + p_.lift_clearance));
+                   terrain.ObstacleBase(static_cast<int>(i)) + a * (o.height + p_.lift.clearance));
     }
   }
   return h;
@@ -444,7 +444,7 @@ void FuzzyCmacWalker::ApplyLift(const Observation& obs, int sw_hip, Eigen::Vecto
           std::atan2(px, -y) + std::atan2(l2 * std::sin(flex), l1 + l2 * std::cos(flex));
       delta << th + q[kQ0] - r[0], -flex - r[1];
     }
-    if (p_.lift_feedback) {
+    if (p_.lift.feedback) {
       // The least further knee flexion that puts the foot at h with the measured thigh.
       const double a_m = q[sw_hip] - q[kQ0];
       const double knee = r[1] + delta[1];
@@ -550,7 +550,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   } else {
     ref = pattern_->Query(e);
   }
-  if (lift_armed_ && p_.lift_clearance > 0.0 && obs.terrain != nullptr && !obs.foot_contact[sw]) {
+  if (lift_armed_ && p_.lift.clearance > 0.0 && obs.terrain != nullptr && !obs.foot_contact[sw]) {
     ApplyLift(obs, sw_hip, &ref);
   } else {
     lift_delta_.setZero();
@@ -563,7 +563,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   Eigen::Vector2d rules = Eigen::Vector2d::Zero();
   // The foot lift acts through the PD references: while it is armed (the step over and the
   // trailing leg's step) the swing is tracked, whatever the rule share, unless lift_keeps_rules.
-  if (!p_.rule_share.empty() && !(lift_armed_ && !p_.lift_keeps_rules) && !stall_.Active(obs.t) &&
+  if (!p_.rule_share.empty() && !(lift_armed_ && !p_.lift.keeps_rules) && !stall_.Active(obs.t) &&
       !stall_.Catching(obs, stance_)) {
     rules = RuleTorques(obs, &share);
   }

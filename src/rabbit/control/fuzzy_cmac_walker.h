@@ -28,6 +28,7 @@
 #include <utility>
 #include <vector>
 
+#include "rabbit/control/foot_lift.h"
 #include "rabbit/control/gait_meter.h"
 #include "rabbit/control/pragmatic_rules.h"
 #include "rabbit/control/push_recovery.h"
@@ -100,24 +101,8 @@ struct WalkerParams {
   // thigh's absolute angle in, swing thigh's out, each gait at its own trunk pitch; needs
   // SetTrunkPitches); false the chapter's e = q_st1 and q_sw1 relative to the trunk.
   bool thigh_frame = true;
-  // Step-over foot lift (beyond the chapter; lift_clearance = 0 turns it off). The reference gaits
-  // lift the swing foot only 2-4 cm in the front half of the swing, too little for a 5 cm
-  // obstacle. Armed at a touchdown for the coming swing when d_obs < lift_d_obs (the step over) or
-  // when an obstacle lies between the feet (the trailing leg); then, while the swing foot is in
-  // the air, the gait pattern's foot point (from its hip and knee references) is raised to at least
-  // obstacle height + lift_clearance, from lift_lead before the near edge to lift_trail past the
-  // far edge (ramped in over lift_ramp and out over lift_release, in the foot's x), and turned back
-  // into hip and knee references by the leg's inverse kinematics. The pattern keeps the foot's
-  // forward progress (so the fuzzy system still sets the step length); only its height changes.
-  // With lift_feedback the knee flexes further when the measured thigh, lagging its reference,
-  // would leave the foot too low.
-  double lift_clearance = 0.06;  // m above the obstacle's top
-  double lift_d_obs = 0.25;      // m
-  double lift_lead = 0.10, lift_trail = 0.04, lift_ramp = 0.10, lift_release = 0.10;  // m
-  bool lift_feedback = true;
-  // With a rule share (below): false (default) suspends it while the foot lift is armed, so that
-  // the lift, which acts through the PD references, can raise the foot; true keeps it.
-  bool lift_keeps_rules = false;
+  // Step-over foot lift (foot_lift.h; keys lift_*).
+  FootLiftParams lift;
   double thigh_length = 0.40, shin_length = 0.47;  // m: the model's, for the inverse kinematics
   // Multi-step foot placement over obstacles ([controller.planner], step_planner.h). When enabled,
   // a step with an obstacle within planner.horizon takes its gait weights from the step-length

@@ -47,7 +47,7 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // is armed (Table 3's step over uses them), and the trunk pitch range of the chapter's
       // figures, given in degrees.
       w.planner.enabled = false;
-      w.lift_keeps_rules = true;
+      w.lift.keeps_rules = true;
       w.q0_d_min = -5.7 * kDeg;
       w.q0_d_max = 25.8 * kDeg;
       break;
