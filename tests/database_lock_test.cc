@@ -14,42 +14,22 @@
 #include <sstream>
 #include <string>
 
+#include "cli_fixture.h"
 #include "gait_manifest.h"
 #include "rabbit/gait/database_layout.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/sha256.h"
 
 namespace rabbit {
+
 namespace {
 
 namespace fs = std::filesystem;
+using rabbit::testing::CliRun;
+using rabbit::testing::ReadText;
+using rabbit::testing::RunCli;
 
 const std::string kRoot = RABBIT_SOURCE_DIR;
-
-struct CliRun {
-  int code = -1;
-  std::string output;
-};
-
-CliRun RunCli(const std::string& args) {
-  const std::string command = std::string(RABBIT_CLI_PATH) + " " + args + " 2>&1";
-  CliRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) run.output.append(buffer, n);
-  const int status = pclose(pipe);
-  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return run;
-}
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // A writer started in the background and held at a phase (the test hook's FIFO handshake), so
 // that the order of two writers is forced without any sleep.
@@ -95,7 +75,7 @@ class DatabaseLockTest : public ::testing::Test {
   fs::path SmallDatabase() {
     const fs::path db = dir_ / "db", shipped = kRoot + "/gaits/reference";
     fs::create_directories(db / "reference");
-    std::stringstream index(ReadFile(shipped / "index.csv"));
+    std::stringstream index(ReadText(shipped / "index.csv"));
     std::string line, text;
     std::getline(index, line);
     text = line + "\n";
@@ -137,7 +117,7 @@ TEST_F(DatabaseLockTest, EveryWriterOfADatabaseTakesTheLockOnItsRoot) {
     EXPECT_NE(r.output.find(busy), std::string::npos) << r.output;
   }
   EXPECT_FALSE(fs::exists(db / "gait_pattern.fll"));
-  EXPECT_EQ(train.Finish(), 0) << ReadFile(dir_ / "train.log");
+  EXPECT_EQ(train.Finish(), 0) << ReadText(dir_ / "train.log");
   EXPECT_TRUE(fs::exists(db / "networks" / ".rabbit-networks"));
   // No lock file inside the database: the one lock is beside its root.
   for (const auto& e : fs::recursive_directory_iterator(db)) {

@@ -14,41 +14,18 @@
 #include <sstream>
 #include <string>
 
+#include "cli_fixture.h"
+
 namespace {
 
 namespace fs = std::filesystem;
+using rabbit::testing::CliRun;
+using rabbit::testing::ReadText;
+using rabbit::testing::RunCli;
 
 const std::string kRoot = RABBIT_SOURCE_DIR;
 
-struct CliRun {
-  int code = -1;
-  bool killed = false;
-  std::string output;  // stdout and stderr
-};
-
-CliRun RunCli(const std::string& args, const std::string& env = "") {
-  const std::string command =
-      (env.empty() ? "" : env + " ") + std::string(RABBIT_CLI_PATH) + " " + args + " 2>&1";
-  CliRun run;
-  FILE* pipe = popen(command.c_str(), "r");
-  if (pipe == nullptr) return run;
-  char buffer[4096];
-  size_t n;
-  while ((n = fread(buffer, 1, sizeof buffer, pipe)) > 0) run.output.append(buffer, n);
-  const int status = pclose(pipe);
-  run.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  run.killed = (WIFSIGNALED(status) && WTERMSIG(status) == SIGKILL) || run.code == 128 + SIGKILL;
-  return run;
-}
-
 std::string KillAt(const std::string& phase) { return "RABBIT_TEST_KILL_AT=" + phase; }
-
-std::string ReadFile(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
 
 // Every file and folder below `root`, relative, with the files' bytes.
 std::map<std::string, std::string> Snapshot(const fs::path& root) {
@@ -56,7 +33,7 @@ std::map<std::string, std::string> Snapshot(const fs::path& root) {
   if (!fs::exists(root)) return files;
   for (const auto& e : fs::recursive_directory_iterator(root)) {
     const std::string rel = fs::relative(e.path(), root).generic_string();
-    files[rel] = e.is_directory() ? "<dir>" : ReadFile(e.path());
+    files[rel] = e.is_directory() ? "<dir>" : ReadText(e.path());
   }
   return files;
 }
@@ -112,7 +89,7 @@ TEST_F(KillPointsTest, ReportMergeKilledAtEveryPhaseIsFinishedByTheNext) {
   }
   fs::copy(shards, ref, fs::copy_options::recursive);
   ASSERT_EQ(RunCli("report -q " + ref.string()).code, 0);
-  const std::string summary = ReadFile(ref / "summary.csv");
+  const std::string summary = ReadText(ref / "summary.csv");
   ASSERT_FALSE(summary.empty());
   for (const char* phase : {"report-merge-staging", "report-merge-linking", "report-merge-linked",
                             "report-merge-written", "report-merge-replaced"}) {
@@ -126,11 +103,11 @@ TEST_F(KillPointsTest, ReportMergeKilledAtEveryPhaseIsFinishedByTheNext) {
       EXPECT_TRUE(fs::exists(dir_ / "out.merging"));  // what the kill left
       EXPECT_EQ(Snapshot(out / "shards"), before);    // every finished run is still in its shard
     } else {
-      EXPECT_EQ(ReadFile(out / "summary.csv"), summary);
+      EXPECT_EQ(ReadText(out / "summary.csv"), summary);
     }
     const CliRun next = RunCli("report -q " + out.string());
     ASSERT_EQ(next.code, 0) << next.output;
-    EXPECT_EQ(ReadFile(out / "summary.csv"), summary);
+    EXPECT_EQ(ReadText(out / "summary.csv"), summary);
     EXPECT_TRUE(fs::exists(out / "one" / "meta.csv"));
     EXPECT_FALSE(fs::exists(out / "shards"));
     EXPECT_FALSE(fs::exists(dir_ / "out.merging"));
@@ -145,7 +122,7 @@ TEST_F(KillPointsTest, ReportMergeKilledAtEveryPhaseIsFinishedByTheNext) {
   EXPECT_NE(refused.output.find("out.merging: exists and is not a merge of rabbit report"),
             std::string::npos)
       << refused.output;
-  EXPECT_EQ(ReadFile(dir_ / "out.merging" / "mine.txt"), "mine\n");
+  EXPECT_EQ(ReadText(dir_ / "out.merging" / "mine.txt"), "mine\n");
   EXPECT_TRUE(fs::exists(out / "shards"));
 }
 
@@ -162,7 +139,7 @@ TEST_F(KillPointsTest, GaitsGenerateKilledAtEveryPhaseLeavesNoUnlistedGait) {
   // Visible gait files (not the pending ones) that the index does not list.
   auto unlisted = [](const fs::path& reference) {
     std::string found;
-    const std::string index = ReadFile(reference / "index.csv");
+    const std::string index = ReadText(reference / "index.csv");
     if (!fs::exists(reference)) return found;
     for (const auto& e : fs::directory_iterator(reference)) {
       const std::string name = e.path().filename().string();
