@@ -4,9 +4,9 @@
 # settings (added to the suite's [defaults.simulation] in a temporary copy), each compared with
 # the suite at the shipped defaults and with a tight reference (rtol 1e-9, atol 1e-11): CPU time,
 # how many runs changed outcome or pass, and the largest change of a run's distance and mean
-# L_step (m).
+# L_step (m). A setting may name the ARKODE method's order too (RTOL:ATOL:ORDER; default 3).
 #
-#   bash bench/walk_tolerance.sh [BUILD_DIR] ["RTOL:ATOL ..."]
+#   bash bench/walk_tolerance.sh [BUILD_DIR] ["RTOL:ATOL[:ORDER] ..."]
 set -euo pipefail
 
 build=${1:-build}
@@ -21,21 +21,22 @@ suite() {
   local file="$work/paper_$1.toml"
   sed "s#\"\.\./gaits#\"$root/gaits#" "$root/scenarios/paper.toml" >"$file"
   if [[ -n "$2" ]]; then
-    python3 - "$file" "$2" "$3" <<'EOF'
+    python3 - "$file" "$2" "$3" "${4:-0}" <<'EOF'
 import sys
-path, rtol, atol = sys.argv[1:]
+path, rtol, atol, order = sys.argv[1:]
 text = open(path).read()
 key = "[defaults.simulation]\n"
-text = text.replace(key, key + f"rtol = {rtol}\natol = {atol}\n", 1)
+extra = f"order = {order}\n" if order != "0" else ""
+text = text.replace(key, key + f"rtol = {rtol}\natol = {atol}\n" + extra, 1)
 open(path, "w").write(text)
 EOF
   fi
   echo "$file"
 }
 
-run() {  # name rtol atol
+run() {  # name rtol atol [order]
   local file rc=0
-  file=$(suite "$1" "$2" "$3")
+  file=$(suite "$1" "$2" "$3" "${4:-}")
   /usr/bin/time -f "%U %S" -o "$work/time_$1" \
     "$rabbit" run "$file" --jobs 1 --no-html -q --out "$work/out_$1" >/dev/null || rc=$?
   ((rc <= 1)) || { echo "rabbit run failed ($1, exit $rc)" >&2; exit 1; }
@@ -45,8 +46,9 @@ run default "" ""
 run reference 1e-9 1e-11
 names=(default reference)
 for s in $settings; do
-  name=${s/:/_}
-  run "$name" "${s%%:*}" "${s##*:}"
+  IFS=: read -r rtol atol order <<<"$s"
+  name=${s//:/_}
+  run "$name" "$rtol" "$atol" "${order:-}"
   names+=("$name")
 done
 

@@ -12,6 +12,8 @@
 #include <cstring>
 #include <stdexcept>
 
+#include "rabbit/sim/serial_vector_ops.h"
+
 namespace rabbit {
 
 const char* IntegratorName(IntegratorKind kind) {
@@ -82,6 +84,9 @@ class SundialsBase : public OdeIntegrator {
     // Fused vector operations: one call per linear combination instead of one per term (the
     // per-step overhead, not the right-hand side, dominates on a 14-state system).
     N_VEnableFusedOps_Serial(y_, SUNTRUE);
+    // Compiled versions of the operations an integrator step spends its time in, with the same
+    // rounding (serial_vector_ops.h); every vector the integrator clones from y_ gets them too.
+    InstallFastSerialOps(y_);
   }
   ~SundialsBase() override {
     if (y_ != nullptr) N_VDestroy(y_);
@@ -94,19 +99,19 @@ class SundialsBase : public OdeIntegrator {
   static int Rhs(realtype t, N_Vector y, N_Vector ydot, void* self) {
     auto* s = static_cast<SundialsBase*>(self);
     ++s->rhs_evals_;
-    return s->rhs_(t, N_VGetArrayPointer(y), N_VGetArrayPointer(ydot), s->user_);
+    return s->rhs_(t, NV_DATA_S(y), NV_DATA_S(ydot), s->user_);
   }
   static int Roots(realtype t, N_Vector y, realtype* g, void* self) {
     auto* s = static_cast<SundialsBase*>(self);
     ++s->root_evals_;
-    return s->roots_(t, N_VGetArrayPointer(y), g, s->user_);
+    return s->roots_(t, NV_DATA_S(y), g, s->user_);
   }
   // Error weights 1 / (rtol |y_i| + atol), as SStolerances gives them, in one pass instead of four
   // vector operations.
   static int ErrorWeights(N_Vector y, N_Vector ewt, void* self) {
     auto* s = static_cast<SundialsBase*>(self);
-    const double* yv = N_VGetArrayPointer(y);
-    double* w = N_VGetArrayPointer(ewt);
+    const double* yv = NV_DATA_S(y);
+    double* w = NV_DATA_S(ewt);
     for (int i = 0; i < s->n_; ++i) w[i] = 1.0 / (s->rtol_ * std::abs(yv[i]) + s->atol_);
     return 0;
   }
