@@ -195,16 +195,16 @@ TEST_F(CliTest, GaitsBadInputExitsTwo) {
 namespace {
 
 // A copy of the shipped database with one library gait more: vm_0.70's swing, its e shifted by
-// `shift` rad (beyond the speed gaits' range), named vm_0.70_l_0.41.
+// `shift` rad (beyond the speed gaits' range), named vm_0.70_l_0.45.
 void WriteDatabaseWithALibraryGait(const fs::path& db, double shift) {
   const std::string root = RABBIT_SOURCE_DIR;
   fs::copy(root + "/gaits/reference", db);
   std::ifstream in(db / "vm_0.70.csv");
-  std::ofstream out(db / "vm_0.70_l_0.41.csv");
+  std::ofstream out(db / "vm_0.70_l_0.45.csv");
   std::string line;
   bool header = false;
   while (std::getline(in, line)) {
-    if (line == "# name = vm_0.70") line = "# name = vm_0.70_l_0.41";
+    if (line == "# name = vm_0.70") line = "# name = vm_0.70_l_0.45";
     if (line == "# source = synthesized") line += "\n# role = library";
     if (header) {
       const size_t comma = line.find(',');
@@ -216,7 +216,7 @@ void WriteDatabaseWithALibraryGait(const fs::path& db, double shift) {
     out << line << "\n";
   }
   std::ofstream(db / "index.csv", std::ios::app)
-      << "vm_0.70_l_0.41,vm_0.70_l_0.41.csv,0.7,0.684,0.412,0.601,32,synthesized,library,0.41\n";
+      << "vm_0.70_l_0.45,vm_0.70_l_0.45.csv,0.7,0.684,0.452,0.601,32,synthesized,library,0.45\n";
 }
 
 }  // namespace
@@ -239,10 +239,10 @@ TEST_F(CliTest, LibraryGaitsLeaveTheGaitPatternTheNetworksAndTheWalkerAsTheyAre)
     if (file == "index.csv") continue;
     EXPECT_EQ(ReadText(nets / file), ReadText(entry.path())) << file;
   }
-  EXPECT_TRUE(fs::exists(nets / "vm_0.70_l_0.41_q_i1.csv"));
+  EXPECT_TRUE(fs::exists(nets / "vm_0.70_l_0.45_q_i1.csv"));
   const CliRun list = RunCli("gaits list --dir " + db.string());
   EXPECT_EQ(list.code, 0);
-  EXPECT_NE(list.output.find("vm_0.70_l_0.41   library"), std::string::npos) << list.output;
+  EXPECT_NE(list.output.find("vm_0.70_l_0.45   library"), std::string::npos) << list.output;
   // The same small suite on the shipped files and on the database with its library gait.
   std::string suite = SmallWalkerSuite("");
   const std::string shipped = Write("shipped.toml", suite);

@@ -42,9 +42,11 @@ std::string ReadText(const std::string& path) {
   return text.str();
 }
 
+// The measured velocities of the shipped speed gaits (the gait pattern's; library gaits take no
+// part in it).
 std::vector<double> ReferenceVelocities() {
   std::vector<double> v;
-  for (const GaitIndexEntry& entry : ReadGaitIndex(kReferenceIndex))
+  for (const GaitIndexEntry& entry : GaitsOfRole(ReadGaitIndex(kReferenceIndex), GaitRole::kSpeed))
     v.push_back(entry.measured_v_m);
   return v;
 }

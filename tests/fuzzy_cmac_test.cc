@@ -17,9 +17,29 @@ namespace {
 
 const std::string kRoot = RABBIT_SOURCE_DIR;
 
+// The shipped speed gaits' networks, in index order: the walker's, those the gait pattern's rules
+// name (the shipped networks folder also holds the library gaits', which no rule names).
+std::vector<GaitCmacs> SpeedGaitNetworks() {
+  std::vector<std::string> names;
+  std::vector<GaitCmacs> all = LoadGaitNetworks(kRoot + "/gaits/networks", &names);
+  const std::vector<GaitIndexEntry> speed =
+      GaitsOfRole(ReadGaitIndex(kRoot + "/gaits/reference/index.csv"), GaitRole::kSpeed);
+  std::vector<GaitCmacs> out;
+  for (size_t k = 0; k < all.size(); ++k) {
+    for (const GaitIndexEntry& e : speed) {
+      if (e.name == names[k]) out.push_back(all[k]);
+    }
+  }
+  return out;
+}
+
+FuzzyCmac SpeedGaitPattern() {
+  return FuzzyCmac(LoadFll(kRoot + "/gaits/gait_pattern.fll"), SpeedGaitNetworks());
+}
+
 TEST(FuzzyCmacTest, EqualsActivationWeightedSumOfCmacOutputs) {
   const TsFis fis = LoadFll(kRoot + "/gaits/gait_pattern.fll");
-  const std::vector<GaitCmacs> networks = LoadGaitNetworks(kRoot + "/gaits/networks", nullptr);
+  const std::vector<GaitCmacs> networks = SpeedGaitNetworks();
   FuzzyCmac pattern(fis, networks);
   std::mt19937 rng(11);
   std::uniform_real_distribution<double> v(0.3, 0.9), d(0.0, 0.8), e(-0.1, 0.5);
@@ -44,8 +64,12 @@ TEST(FuzzyCmacTest, EqualsActivationWeightedSumOfCmacOutputs) {
 TEST(FuzzyCmacTest, ReproducesEachReferenceGaitAtItsVelocity) {
   // No obstacle and V_M at a gait's own velocity: one rule fires and the pattern is that gait's
   // trained CMACs, which fit its stored swing trajectory.
-  FuzzyCmac pattern = LoadGaitPattern(kRoot + "/gaits/gait_pattern.fll", kRoot + "/gaits/networks");
-  const std::vector<GaitIndexEntry> index = ReadGaitIndex(kRoot + "/gaits/reference/index.csv");
+  FuzzyCmac pattern = SpeedGaitPattern();
+  // The speed gaits (the pattern's; the index lists them first, so k is also their networks'
+  // place), not the library gaits, which no rule names.
+  const std::vector<GaitIndexEntry> index =
+      GaitsOfRole(ReadGaitIndex(kRoot + "/gaits/reference/index.csv"), GaitRole::kSpeed);
+  ASSERT_EQ(index.size(), pattern.gait_weights().size());
   for (size_t k = 0; k < index.size(); ++k) {
     SCOPED_TRACE(index[k].name);
     ASSERT_TRUE(pattern.SetContext(index[k].measured_v_m, 1.0));
@@ -57,7 +81,8 @@ TEST(FuzzyCmacTest, ReproducesEachReferenceGaitAtItsVelocity) {
       sum += (y[0] - s.q1) * (y[0] - s.q1);
     }
     const double rms_deg = std::sqrt(sum / static_cast<double>(gait.swing.size())) * 180.0 / M_PI;
-    // The steep hip pulses of vm_0.40 (0.57 deg) and vm_0.30 (2.1 deg) are the worst (docs/results.md).
+    // The steep hip pulses of vm_0.40 (0.57 deg) and vm_0.30 (2.1 deg) are the worst
+    // (docs/results.md).
     const double kLimitDeg = index[k].name == "vm_0.30" ? 2.5 : 1.0;
     EXPECT_LT(rms_deg, kLimitDeg);
   }
@@ -65,7 +90,7 @@ TEST(FuzzyCmacTest, ReproducesEachReferenceGaitAtItsVelocity) {
 
 TEST(FuzzyCmacTest, MismatchedPiecesAreRefused) {
   const TsFis fis = LoadFll(kRoot + "/gaits/gait_pattern.fll");
-  std::vector<GaitCmacs> networks = LoadGaitNetworks(kRoot + "/gaits/networks", nullptr);
+  std::vector<GaitCmacs> networks = SpeedGaitNetworks();
   std::vector<GaitCmacs> four(networks.begin(), networks.begin() + 4);
   EXPECT_THROW(FuzzyCmac(fis, four), std::invalid_argument);  // rules name O5
   std::vector<GaitCmacs> short_gait = networks;
@@ -81,7 +106,7 @@ TEST(FuzzyCmacTest, MismatchedPiecesAreRefused) {
 TEST(FuzzyCmacTest, ThighFrameShiftsEachGaitByItsTrunkPitch) {
   // QueryThigh(th) = sum_k w_k [O^k(th + p_k) - (p_k, 0, 0, 0)], computed here gait by gait.
   const TsFis fis = LoadFll(kRoot + "/gaits/gait_pattern.fll");
-  const std::vector<GaitCmacs> networks = LoadGaitNetworks(kRoot + "/gaits/networks", nullptr);
+  const std::vector<GaitCmacs> networks = SpeedGaitNetworks();
   FuzzyCmac pattern(fis, networks);
   EXPECT_THROW(pattern.QueryThigh(0.1), std::logic_error);
   EXPECT_THROW(pattern.SetTrunkPitches({0.1, 0.2}), std::invalid_argument);
@@ -107,7 +132,7 @@ TEST(FuzzyCmacTest, ThighFrameShiftsEachGaitByItsTrunkPitch) {
 }
 
 TEST(FuzzyCmacTest, StrongestRuleOnlyKeepsOneGait) {
-  FuzzyCmac pattern = LoadGaitPattern(kRoot + "/gaits/gait_pattern.fll", kRoot + "/gaits/networks");
+  FuzzyCmac pattern = SpeedGaitPattern();
   // Between the 0.5 and 0.6 m/s gaits, nearer the 0.6 one; no obstacle: V3 and V4 fire.
   ASSERT_TRUE(pattern.SetContext(0.56, 1.0));
   // (Gaits vm_0.30 ... vm_1.00: the 0.5 and 0.6 m/s gaits are the third and fourth.)

@@ -240,12 +240,13 @@ std::vector<Case> Cases() {
   const auto duplicate = [](const fs::path& d) {
     fs::copy(kRoot + "/gaits/reference", d / "g");
     std::string text = ReadText(d / "g/index.csv");
+    // The first gait's row again, right below it (line 3), whatever the database's size.
     const size_t second = text.find('\n') + 1;
-    text += text.substr(second, text.find('\n', second) + 1 - second);
+    text.insert(second, text.substr(second, text.find('\n', second) + 1 - second));
     WriteText(d / "g/index.csv", text);
     WriteText(d / "s.toml", WalkerScenario((d / "g").string(), ""));
   };
-  const std::vector<std::string> twice = {"{D}/g/index.csv:10", "'name'", "listed twice",
+  const std::vector<std::string> twice = {"{D}/g/index.csv:3", "'name'", "listed twice",
                                           "first on line 2"};
   c.push_back({"duplicated gait row: gaits list",
                duplicate,

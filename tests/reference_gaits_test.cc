@@ -1,8 +1,9 @@
-// The shipped reference gaits (gaits/reference/) against the gait-synthesis acceptance criteria: each,
-// re-walked from the documented start with the parameters stored in its file, walks at least 30
-// steps without falling, its last 10 steps' V_M within 0.03 m/s of the target, L_step varying by
-// less than 1 cm; the five step lengths rise with V_M as in the chapter's Table 2 (within 0.03 m);
-// the stored trajectory is the one the walk produces; actuator limits hold throughout.
+// The shipped reference gaits (gaits/reference/) against the gait-synthesis acceptance criteria:
+// each, re-walked from the documented start with the parameters stored in its file, walks at least
+// 30 steps without falling, its last 10 steps' V_M within 0.03 m/s of the target, L_step varying by
+// less than 1 cm; the five speed gaits' step lengths rise with V_M as in the chapter's Table 2
+// (within 0.03 m); the stored trajectory is the one the walk produces; actuator limits hold
+// throughout.
 #include <gtest/gtest.h>
 
 #include <filesystem>
@@ -24,7 +25,12 @@ TEST(ReferenceGaitsTest, EachWalksThirtyStepsAtItsTarget) {
     SCOPED_TRACE(entry.name);
     const GaitRecord gait = ReadGaitFile(kDir + "/" + entry.file);
     EXPECT_EQ(gait.model_hash, ModelHash(model.params()));
-    const GaitRun run = WalkGait(setup, gait.spec, 20.0, 10);  // as recorded (gaits_command)
+    // As recorded (gaits_command, gait_build): 20 s, and a gait slower than 30 steps in 20 s
+    // (but for 13 or more: the slow-stepping library gaits) for the time of 31 of its steps.
+    GaitRun run = WalkGait(setup, gait.spec, 20.0, 10);
+    if (!run.metrics.fell && run.metrics.steps > 12 && run.metrics.steps < 30) {
+      run = WalkGait(setup, gait.spec, 20.0 * 31 / run.metrics.steps, 10);
+    }
     const double kVelocityTolerance = 0.03, kMaxSpread = 0.01;
     EXPECT_FALSE(run.metrics.fell) << run.metrics.reason;
     EXPECT_GE(run.metrics.steps, 30);
@@ -57,7 +63,7 @@ TEST(ReferenceGaitsTest, StepLengthRisesWithVelocityAsInTable2) {
   for (const auto& row : kTable2) {
     const GaitIndexEntry* found = nullptr;
     for (const GaitIndexEntry& e : index) {
-      if (std::abs(e.target_v_m - row[0]) < 1e-9) found = &e;
+      if (e.role == GaitRole::kSpeed && std::abs(e.target_v_m - row[0]) < 1e-9) found = &e;
     }
     ASSERT_NE(found, nullptr) << "no gait for V_M = " << row[0];
     EXPECT_NEAR(found->l_step, row[1], kTolerance) << found->name;
