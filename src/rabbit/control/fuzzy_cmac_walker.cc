@@ -355,7 +355,8 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     d_noise = p_.d_obs_noise * Gaussian();
     d_obs = std::clamp(d_obs + d_noise, 0.0, p_.d_obs_max);
   }
-  SetContext(v_m_ + p_.fis_v_lead * (v_c - v_m_) + slope_.FisVelocityOffset(), d_obs);
+  SetContext(v_m_ + p_.fis_v_lead * (v_c - v_m_) + slope_.FisVelocityOffset() + speed_.FisOffset(),
+             d_obs);
   StepPlan plan;
   if (p_.planner.enabled && obs.terrain != nullptr) {
     // The planner sees beyond d_obs_max (its horizon), with the same perception noise.

@@ -22,7 +22,7 @@ bool VelocityControlParams::IsValid(std::string* error) const {
     *error = "velocity_control.feedforward_gain must be in [0, 2]";
     return false;
   }
-  return true;
+  return step_map.IsValid(error);
 }
 
 std::vector<double> NonDecreasingFit(const std::vector<double>& y) {
@@ -79,6 +79,7 @@ VelocityControl::VelocityControl(const VelocityControlParams& params, double k_p
       q0_d_min_(q0_d_min),
       q0_d_max_(q0_d_max),
       map_(std::move(map)),
+      step_map_(params.step_map),
       q0_d_(q0_d_initial) {
   std::string error;
   if (!p_.IsValid(&error)) throw std::invalid_argument(error);
@@ -98,6 +99,13 @@ double VelocityControl::Command(double v_d) {
 }
 
 double VelocityControl::Update(double v_m, double t_step, double extra) {
+  if (p_.law == VelocityLaw::kStepMap) {
+    started_ = true;
+    pending_ff_ = 0.0;
+    q0_d_ = std::clamp(step_map_.Update(v_m, v_c_, q0_d_, q0_d_min_, q0_d_max_) + extra, q0_d_min_,
+                       q0_d_max_);
+    return q0_d_;
+  }
   const double error = v_c_ - v_m;
   double dq0 = k_p_ * error + pending_ff_ + extra;
   pending_ff_ = 0.0;

@@ -21,6 +21,9 @@
 //   start         with start_at_map, the first update after the warm-up sets q0_d = P(V_c).
 // P is the gaits' map, or a map given as points (pitch_map), e.g. the pitches the walker itself
 // settles at (docs/design.md, "Velocity control").
+//
+// With law = kStepMap the feedback law above gives way to the identified step-to-step map
+// (step_map_control.h), which chooses q0_d at each update; the rate limit still applies.
 #ifndef RABBIT_CONTROL_VELOCITY_CONTROL_H_
 #define RABBIT_CONTROL_VELOCITY_CONTROL_H_
 
@@ -28,7 +31,13 @@
 #include <utility>
 #include <vector>
 
+#include "rabbit/control/step_map_control.h"
+
 namespace rabbit {
+
+// The feedback law of the q0_d update: the chapter's incremental law, or the identified
+// step-to-step map (step_map_control.h).
+enum class VelocityLaw { kChapter, kStepMap };
 
 struct VelocityControlParams {
   bool enabled = false;  // false: the chapter's law alone (V_c = V_d)
@@ -40,6 +49,11 @@ struct VelocityControlParams {
   std::vector<std::pair<double, double>> pitch_map;
   // At the first update after the warm-up, q0_d starts at P(V_c) instead of the start gait's.
   bool start_at_map = true;
+  // law = "step_map": the step-to-step map chooses q0_d at each update instead of the law above
+  // (the rate limit still applies when enabled; the feed-forward and start_at_map do not: the
+  // map's q* takes their place).
+  VelocityLaw law = VelocityLaw::kChapter;
+  StepMapParams step_map;
   bool IsValid(std::string* error) const;
 };
 
@@ -76,11 +90,16 @@ class VelocityControl {
   double Update(double v_m, double t_step, double extra = 0.0);
   double q0_d() const { return q0_d_; }
   double command() const { return v_c_; }
+  // The step map's shift of the FIS's velocity input (m/s; 0 with the chapter's law).
+  double FisOffset() const {
+    return p_.law == VelocityLaw::kStepMap ? step_map_.fis_offset() : 0.0;
+  }
 
  private:
   VelocityControlParams p_;
   double k_p_, k_v_, q0_d_min_, q0_d_max_;
   PitchMap map_;
+  StepMapControl step_map_;
   double q0_d_;
   double v_c_ = 0.0;
   bool have_command_ = false;

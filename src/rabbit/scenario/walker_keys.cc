@@ -20,6 +20,7 @@
 #include "rabbit/scenario/keys_internal.h"
 #include "rabbit/scenario/slope_keys.h"
 #include "rabbit/scenario/stall_recovery_keys.h"
+#include "rabbit/scenario/step_map_keys.h"
 #include "rabbit/scenario/terrain_step_keys.h"
 
 namespace rabbit {
@@ -190,6 +191,10 @@ void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
     r.Fail("feedforward_gain", "must be in [0, 2]");
   }
   p->start_at_map = r.Bool("start_at_map", p->start_at_map);
+  const std::string law = r.String("law", p->law == VelocityLaw::kStepMap ? "step_map" : "chapter");
+  if (law != "chapter" && law != "step_map") r.Fail("law", "expected \"chapter\" or \"step_map\"");
+  p->law = law == "step_map" ? VelocityLaw::kStepMap : VelocityLaw::kChapter;
+  ReadStepMapKeys(r.Table("step_map"), &p->step_map);
   // Absent or empty: the reference gaits' map.
   const std::vector<std::vector<double>> map = r.DoubleRows("pitch_map_deg", 2);
   if (!map.empty()) p->pitch_map.clear();
