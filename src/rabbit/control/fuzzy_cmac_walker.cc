@@ -136,6 +136,18 @@ bool WalkerParams::IsValid(std::string* error) const {
     *error = "warmup_steps must be in [0, 1000]";
     return false;
   }
+  if (!(warmup_handover_ratio >= 0.0 && warmup_handover_ratio <= 1.0)) {
+    *error = "warmup_handover_ratio must be in [0, 1]";
+    return false;
+  }
+  if (warmup_handover_after < 0 || warmup_handover_after > 1000) {
+    *error = "warmup_handover_after must be in [0, 1000]";
+    return false;
+  }
+  if (!(std::isfinite(warmup_l_step) && warmup_l_step >= 0.0)) {
+    *error = "warmup_l_step must be >= 0";
+    return false;
+  }
   if (warmup_steps > 0 && !warmup.IsValid(error)) {
     *error = "warm-up rules: " + *error;
     return false;
@@ -516,7 +528,11 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     stance_ = swing;
     swing_start_ = obs.t;
     std::fill(rule_states_.begin(), rule_states_.end(), RuleState{});
-    if (warming_up_ && static_cast<int>(meter_.steps().size()) >= p_.warmup_steps) {
+    const int taken = static_cast<int>(meter_.steps().size());
+    if (warming_up_ &&
+        (taken >= p_.warmup_steps ||
+         (taken > p_.warmup_handover_after &&
+          meter_.last_step().l_step < p_.warmup_handover_ratio * p_.warmup_l_step))) {
       warming_up_ = false;
     }
     OnTouchdown(obs);

@@ -115,6 +115,16 @@ struct WalkerParams {
   // gait's), and the Fuzzy-CMAC takes over at the touchdown that ends them (0: from t = 0).
   int warmup_steps = 6;
   PragmaticParams warmup;
+  // Early hand-over: a warm-up step, from the `warmup_handover_after`-th on (0-based; the first
+  // step from the walking start is short on any robot), shorter than `warmup_handover_ratio`
+  // times the start gait's step length `warmup_l_step` ends the warm-up at its touchdown (ratio 0:
+  // off). The start gait's rules have no feedback on speed, so on a robot unlike the one they were
+  // found on (heavier legs) their steps shrink until it falls; the Fuzzy-CMAC's velocity control
+  // can catch it. warmup_l_step is the database's L_step of the start gait (set from it, not a
+  // key).
+  double warmup_handover_ratio = 0.0;
+  int warmup_handover_after = 1;
+  double warmup_l_step = 0.0;
   // Push recovery (push_recovery.h; keys of [controller.recovery]).
   RecoveryParams recovery;
   // Slope adaptation (slope_adaptation.h; keys of [controller.slope]).

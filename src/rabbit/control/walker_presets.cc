@@ -41,6 +41,9 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // Steps and platforms: 54 of 120 training members (scenarios/train/steps.toml) against 4
       // without (docs/design.md, "Steps and platforms").
       w.steps.enabled = true;
+      // A warm-up step after the first shorter than 0.75 of the start gait's hands over to the
+      // Fuzzy-CMAC (docs/results.md, "Choosing the default walker").
+      w.warmup_handover_ratio = 0.75;
       break;
     case WalkerPreset::kChapter:
       // Table 3's obstacle strategy alone, the fast gaits' swing kept theirs while the foot lift

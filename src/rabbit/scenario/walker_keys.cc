@@ -212,6 +212,9 @@ void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
 void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walker) {
   WalkerParams& w = *walker;
   w.warmup_steps = static_cast<int>(t->Integer("warmup_steps", w.warmup_steps, 0, 1000));
+  w.warmup_handover_ratio = t->Double("warmup_handover_ratio", w.warmup_handover_ratio);
+  w.warmup_handover_after =
+      static_cast<int>(t->Integer("warmup_handover_after", w.warmup_handover_after, 0, 1000));
   w.hip_kp = t->Double("hip_kp", w.hip_kp);
   w.hip_kd = t->Double("hip_kd", w.hip_kd);
   w.knee_kp = t->Double("knee_kp", w.knee_kp);
@@ -386,6 +389,7 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
     w.warmup = gait.spec.rules;
     w.q0_d_initial = gait.spec.rules.q0_d;
     w.v_m_initial = gait.measured.v_m;
+    w.warmup_l_step = gait.measured.l_step;
     return w;
   };
   s->walker = preset_walker(preset);
