@@ -37,25 +37,12 @@
 #include "rabbit/control/step_planner.h"
 #include "rabbit/control/terrain_steps.h"
 #include "rabbit/control/velocity_control.h"
+#include "rabbit/control/velocity_profile.h"
 #include "rabbit/learn/fuzzy_cmac.h"
 #include "rabbit/learn/swing_pattern.h"
 #include "rabbit/sim/controller.h"
 
 namespace rabbit {
-
-// The desired average velocity V_d(t), from points (t_s, v_m_s) sorted by time:
-//   constant  one point (or V_d of the first point everywhere);
-//   ramp      piecewise linear between the points, constant before the first and after the last;
-//   steps     each point's value held from its time until the next point's.
-struct VelocityProfile {
-  enum class Kind { kConstant, kRamp, kSteps };
-  Kind kind = Kind::kConstant;
-  std::vector<std::pair<double, double>> points = {{0.0, 0.6}};
-  double At(double t) const;
-  // At least one point, finite, times ascending (strictly for ramps), velocities in (0, 3) m/s.
-  bool IsValid(std::string* error) const;
-};
-const char* VelocityProfileKindName(VelocityProfile::Kind kind);
 
 struct WalkerParams {
   // PD gains (N m/rad, N m s/rad): swing hip (eq. 21), swing knee (eq. 22), stance knee (eq. 23),
