@@ -250,15 +250,9 @@ TEST(StepMapControlTest, VelocityControlUsesTheMap) {
   EXPECT_NEAR(v.Command(0.9), 0.7, kTolerance);  // rate-limited
 }
 
-class StepMapKeysTest : public testing::SuiteFileTest {
+class StepMapKeysTest : public testing::WalkerKeysTest {
  protected:
-  StepMapKeysTest() : SuiteFileTest("rabbit_step_map_control_test") {}
-  std::string Write(const std::string& keys) {
-    return SuiteFileTest::Write(testing::WalkerKeysSuite("velocity_control", keys));
-  }
-  void ExpectError(const std::string& keys, const std::string& key) {
-    ExpectSuiteError(testing::WalkerKeysSuite("velocity_control", keys), 13, key, "");
-  }
+  StepMapKeysTest() : WalkerKeysTest("rabbit_step_map_control_test", "velocity_control") {}
 };
 
 TEST_F(StepMapKeysTest, ReadAndValidated) {

@@ -11,10 +11,10 @@
 
 #include "rabbit/control/fuzzy_cmac_walker.h"
 #include "rabbit/io/error.h"
-#include "suite_fixture.h"
 #include "rabbit/learn/ts_fis.h"
 #include "rabbit/scenario/run.h"
 #include "rabbit/scenario/suite.h"
+#include "suite_fixture.h"
 
 namespace rabbit {
 namespace {
@@ -128,17 +128,10 @@ TEST(StepLengthFisTest, AnyNumberOfGaits) {
 }
 
 // [controller.planner] keys: validated, errors naming the file, line and key.
-class PlannerKeysTest : public testing::SuiteFileTest {
+// The walker suite with `planner` in [defaults.controller.planner] (line 12).
+class PlannerKeysTest : public testing::WalkerKeysTest {
  protected:
-  PlannerKeysTest() : SuiteFileTest("rabbit_step_planner_test") {}
-  // The walker suite with `planner` in [defaults.controller.planner] (line 12).
-  std::string Write(const std::string& planner) {
-    return SuiteFileTest::Write(testing::WalkerKeysSuite("planner", planner));
-  }
-  void ExpectError(const std::string& planner, int line, const std::string& key,
-                   const std::string& fragment) {
-    ExpectSuiteError(testing::WalkerKeysSuite("planner", planner), line, key, fragment);
-  }
+  PlannerKeysTest() : WalkerKeysTest("rabbit_step_planner_test", "planner") {}
 };
 
 TEST_F(PlannerKeysTest, ReadAndValidated) {

@@ -5,6 +5,7 @@
 #define RABBIT_TESTS_SUITE_FIXTURE_H_
 
 #include <string>
+#include <utility>
 
 #include "cli_fixture.h"
 
@@ -25,6 +26,26 @@ class SuiteFileTest : public ScratchDirTest {
 // A suite of one 2 s walk at 0.6 m/s on the shipped gait pattern whose walker has `keys` in
 // [defaults.controller.<table>] (the table's header is line 12: the first key is on line 13).
 std::string WalkerKeysSuite(const std::string& table, const std::string& keys);
+
+// A key test of one walker sub-table: `keys` written into WalkerKeysSuite(table, keys).
+class WalkerKeysTest : public SuiteFileTest {
+ protected:
+  WalkerKeysTest(std::string prefix, std::string table)
+      : SuiteFileTest(std::move(prefix)), table_(std::move(table)) {}
+  std::string Write(const std::string& keys) {
+    return SuiteFileTest::Write(WalkerKeysSuite(table_, keys));
+  }
+  // LoadSuite fails naming `key` on `line` (the first key's line by default) and holding
+  // `fragment`.
+  void ExpectError(const std::string& keys, int line, const std::string& key,
+                   const std::string& fragment) {
+    ExpectSuiteError(WalkerKeysSuite(table_, keys), line, key, fragment);
+  }
+  void ExpectError(const std::string& keys, const std::string& key) {
+    ExpectError(keys, 13, key, "");
+  }
+  std::string table_;
+};
 
 }  // namespace rabbit::testing
 

@@ -14,8 +14,8 @@
 #include <stdexcept>
 
 #include "rabbit/io/error.h"
-#include "suite_fixture.h"
 #include "rabbit/scenario/suite.h"
+#include "suite_fixture.h"
 
 namespace rabbit {
 namespace {
@@ -132,16 +132,10 @@ TEST(VelocityControlTest, ParamsValidation) {
 }
 
 // [controller.velocity_control] keys: read, in degrees at the edge, errors naming file, line, key.
-class VelocityControlKeysTest : public testing::SuiteFileTest {
+// The walker suite with `keys` in [defaults.controller.velocity_control] (line 12).
+class VelocityControlKeysTest : public testing::WalkerKeysTest {
  protected:
-  VelocityControlKeysTest() : SuiteFileTest("rabbit_velocity_control_test") {}
-  // The walker suite with `keys` in [defaults.controller.velocity_control] (line 12).
-  std::string Write(const std::string& keys) {
-    return SuiteFileTest::Write(testing::WalkerKeysSuite("velocity_control", keys));
-  }
-  void ExpectError(const std::string& keys, const std::string& key) {
-    ExpectSuiteError(testing::WalkerKeysSuite("velocity_control", keys), 13, key, "");
-  }
+  VelocityControlKeysTest() : WalkerKeysTest("rabbit_velocity_control_test", "velocity_control") {}
 };
 
 TEST_F(VelocityControlKeysTest, ReadAndValidated) {

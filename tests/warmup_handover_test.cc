@@ -3,12 +3,10 @@
 // with 9 % heavier legs (a member of the training family link_masses) the start gait's rules alone
 // shrink every step until it falls; handed over at the first short step, the Fuzzy-CMAC walks on.
 #include <gtest/gtest.h>
-#include <unistd.h>
 
-#include <filesystem>
-#include <fstream>
 #include <string>
 
+#include "cli_fixture.h"
 #include "rabbit/control/walker_presets.h"
 #include "rabbit/io/error.h"
 #include "rabbit/scenario/run.h"
@@ -17,30 +15,20 @@
 namespace rabbit {
 namespace {
 
-namespace fs = std::filesystem;
-
-class WarmupHandoverTest : public ::testing::Test {
+class WarmupHandoverTest : public testing::ScratchDirTest {
  protected:
-  void SetUp() override {
-    dir_ = fs::temp_directory_path() /
-           ("rabbit_warmup_handover_test_" + std::to_string(::getpid()) + "_" +
-            ::testing::UnitTest::GetInstance()->current_test_info()->name());
-    fs::create_directories(dir_);
-  }
-  void TearDown() override { fs::remove_all(dir_); }
+  WarmupHandoverTest() : ScratchDirTest("rabbit_warmup_handover_test") {}
   // 20 s at 0.6 m/s with the legs 9 % heavier (masses and inertias) than the model the gaits were
   // found on, and the trunk 3 % heavier; `controller` lines are added to [controller].
   std::string Write(const std::string& controller) {
-    const std::string path = (dir_ / "heavy_legs.toml").string();
-    std::ofstream(path) << "[simulation]\nduration = 20.0\n"
-                        << "[model]\ntrunk_mass = 12.32\ntrunk_inertia = 1.366\n"
-                        << "thigh_mass = 7.419\nthigh_inertia = 0.5128\n"
-                        << "shin_mass = 3.354\nshin_inertia = 0.2096\n"
-                        << "[velocity]\nvalue = 0.6\n[criteria]\nmin_steps = 20\n"
-                        << "[controller]\ntype = \"fuzzy_cmac\"\ndatabase = \"" << RABBIT_SOURCE_DIR
-                        << "/gaits\"\n"
-                        << controller;
-    return path;
+    return ScratchDirTest::Write("heavy_legs.toml",
+                                 std::string("[simulation]\nduration = 20.0\n") +
+                                     "[model]\ntrunk_mass = 12.32\ntrunk_inertia = 1.366\n" +
+                                     "thigh_mass = 7.419\nthigh_inertia = 0.5128\n" +
+                                     "shin_mass = 3.354\nshin_inertia = 0.2096\n" +
+                                     "[velocity]\nvalue = 0.6\n[criteria]\nmin_steps = 20\n" +
+                                     "[controller]\ntype = \"fuzzy_cmac\"\ndatabase = \"" +
+                                     RABBIT_SOURCE_DIR + "/gaits\"\n" + controller);
   }
   RunOutput Run(const std::string& controller) {
     Scenario s = LoadScenario(Write(controller));
@@ -48,7 +36,6 @@ class WarmupHandoverTest : public ::testing::Test {
     const std::shared_ptr<const GaitLibrary> library = LoadGaitLibrary(s.pattern);
     return RunScenario(s, "fuzzy_cmac", library.get());
   }
-  fs::path dir_;
 };
 
 TEST(WarmupHandover, TheAdaptivePresetHandsOverEarlyAndTheChaptersDoesNot) {

@@ -9,6 +9,15 @@ namespace {
 inline sunindextype Length(N_Vector v) { return NV_LENGTH_S(v); }
 inline realtype* Data(N_Vector v) { return NV_DATA_S(v); }
 
+// z += c_k X_k for k = 1 .. nvec - 1, one vector after the other (the serial module's order).
+void AddRest(int nvec, const realtype* c, N_Vector* X, sunindextype n, realtype* zd) {
+  for (int k = 1; k < nvec; ++k) {
+    const realtype* xd = Data(X[k]);
+    const realtype ck = c[k];
+    for (sunindextype i = 0; i < n; ++i) zd[i] += ck * xd[i];
+  }
+}
+
 }  // namespace
 
 // Each case below is one of the serial module's, taken in its order: the cases round differently
@@ -116,34 +125,17 @@ int LinearCombination(int nvec, realtype* c, N_Vector* X, N_Vector z) {
   }
   const sunindextype n = Length(z);
   realtype* zd = Data(z);
-  if (X[0] == z && c[0] == 1.0) {  // z += sum c_i X_i, i >= 1
-    for (int k = 1; k < nvec; ++k) {
-      const realtype* xd = Data(X[k]);
-      const realtype ck = c[k];
-      for (sunindextype i = 0; i < n; ++i) zd[i] += ck * xd[i];
-    }
-    return 0;
-  }
-  if (X[0] == z) {  // z = c_0 z + sum c_i X_i, i >= 1
+  if (X[0] == z) {  // z = c_0 z + sum c_k X_k, k >= 1 (no scaling when c_0 is 1)
     const realtype c0 = c[0];
-    for (sunindextype i = 0; i < n; ++i) zd[i] *= c0;
-    for (int k = 1; k < nvec; ++k) {
-      const realtype* xd = Data(X[k]);
-      const realtype ck = c[k];
-      for (sunindextype i = 0; i < n; ++i) zd[i] += ck * xd[i];
+    if (c0 != 1.0) {
+      for (sunindextype i = 0; i < n; ++i) zd[i] *= c0;
     }
-    return 0;
-  }
-  {
+  } else {  // z = sum c_k X_k
     const realtype* xd = Data(X[0]);
     const realtype c0 = c[0];
     for (sunindextype i = 0; i < n; ++i) zd[i] = c0 * xd[i];
   }
-  for (int k = 1; k < nvec; ++k) {
-    const realtype* xd = Data(X[k]);
-    const realtype ck = c[k];
-    for (sunindextype i = 0; i < n; ++i) zd[i] += ck * xd[i];
-  }
+  AddRest(nvec, c, X, n, zd);
   return 0;
 }
 
