@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <map>
 #include <memory>
@@ -34,20 +35,28 @@ std::string ResolvePath(const TomlReader& t, const std::string& path) {
   return p.is_absolute() ? path : (std::filesystem::path(t.Directory()) / p).string();
 }
 
-// The FLL file's fuzzy system, parsed once per file (and again when the file changes).
-std::shared_ptr<const TsFis> CachedFll(const std::string& path) {
+// A file's contents as `load` reads them, read once per file and process (again when the file's
+// time or size changes): a suite's hundreds of walker scenarios share their database's files.
+// Only what loads is kept: a bad file throws each time it is read.
+template <typename T, typename Load>
+std::shared_ptr<const T> CachedRead(const std::string& path, Load load) {
   static std::mutex mutex;
-  static std::map<std::string,
-                  std::pair<std::filesystem::file_time_type, std::shared_ptr<const TsFis>>>
-      cache;
-  std::error_code error;
-  const auto time = std::filesystem::last_write_time(path, error);
+  using Stamp = std::pair<std::filesystem::file_time_type, std::uintmax_t>;
+  static std::map<std::string, std::pair<Stamp, std::shared_ptr<const T>>> cache;
+  std::error_code time_error, size_error;
+  const Stamp stamp = {std::filesystem::last_write_time(path, time_error),
+                       std::filesystem::file_size(path, size_error)};
+  const bool stamped = !time_error && !size_error;
   std::lock_guard<std::mutex> lock(mutex);
   auto found = cache.find(path);
-  if (found != cache.end() && !error && found->second.first == time) return found->second.second;
-  auto fis = std::make_shared<const TsFis>(LoadFll(path));
-  cache[path] = {time, fis};
-  return fis;
+  if (stamped && found != cache.end() && found->second.first == stamp) return found->second.second;
+  auto value = std::make_shared<const T>(load(path));
+  if (stamped) cache[path] = {stamp, value};
+  return value;
+}
+
+std::shared_ptr<const TsFis> CachedFll(const std::string& path) {
+  return CachedRead<TsFis>(path, [](const std::string& p) { return LoadFll(p); });
 }
 
 // A membership function's parameters in the FLL's order (Triangle a b c, Trapezoid a b c d,
@@ -347,8 +356,10 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
     f.gaits = gaits.empty() ? (fs::path(database) / "reference").string() : ResolvePath(*t, gaits);
   }
   ReadMembershipSets(t->Table("sets"), *CachedFll(f.fll), s);
-  const std::vector<GaitIndexEntry> index =
-      ReadGaitIndex((std::filesystem::path(f.gaits) / "index.csv").string());
+  const auto index_file = CachedRead<std::vector<GaitIndexEntry>>(
+      (std::filesystem::path(f.gaits) / "index.csv").string(),
+      [](const std::string& p) { return ReadGaitIndex(p); });
+  const std::vector<GaitIndexEntry>& index = *index_file;
   if (GaitsOfRole(index, GaitRole::kSpeed).empty()) {
     t->Fail("gaits", "the gait database " + f.gaits + " lists no speed gait");
   }
@@ -369,7 +380,10 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
     }
     if (start == nullptr) t->Fail("start_gait", "no gait \"" + s->start_gait + "\" in " + f.gaits);
   }
-  const GaitRecord gait = ReadGaitFile((std::filesystem::path(f.gaits) / start->file).string());
+  const auto gait_file =
+      CachedRead<GaitRecord>((std::filesystem::path(f.gaits) / start->file).string(),
+                             [](const std::string& p) { return ReadGaitFile(p); });
+  const GaitRecord& gait = *gait_file;
   s->walking = gait.spec;
   // The preset the keys are read over (walker_presets.h); a baseline "chapter" is the chapter's
   // preset read with the same keys.
