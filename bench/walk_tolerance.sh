@@ -2,9 +2,10 @@
 # Work-precision of the integrator tolerances on the walking workload: the default suite
 # (scenarios/paper.toml, 21 walks) run whole, one thread, CSV report, at several rtol / atol
 # settings (added to the suite's [defaults.simulation] in a temporary copy), each compared with
-# the suite at the shipped defaults and with a tight reference (rtol 1e-9, atol 1e-11): CPU time,
+# the suite at the defaults and with a tight reference (rtol 1e-9, atol 1e-11): CPU time,
 # how many runs changed outcome or pass, and the largest change of a run's distance and mean
-# L_step (m). A setting may name the ARKODE method's order too (RTOL:ATOL:ORDER; default 3).
+# L_step (m). A setting may name the ARKODE method's order too (RTOL:ATOL:ORDER; without one,
+# the default order, 4).
 #
 #   bash bench/walk_tolerance.sh [BUILD_DIR] ["RTOL:ATOL[:ORDER] ..."]
 set -euo pipefail

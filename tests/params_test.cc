@@ -11,6 +11,7 @@
 #include <fstream>
 
 #include "rabbit/io/error.h"
+#include "rabbit/learn/fll.h"
 #include "rabbit/model/params.h"
 #include "rabbit/scenario/suite.h"
 
@@ -96,6 +97,8 @@ TEST_F(ParamsTest, OverlayReachesEveryScenarioDefaultsAndArrayElements) {
       "\"noise.v_m_std\" = 0.01\n");
   const Suite tuned = LoadSuite(suite, &o);
   ASSERT_EQ(tuned.scenarios.size(), base.scenarios.size());
+  const Membership shipped_v1 =
+      LoadFll(kRoot + "/gaits/gait_pattern.fll").inputs[0].sets[0].membership;
   for (size_t i = 0; i < tuned.scenarios.size(); ++i) {
     const Scenario& s = tuned.scenarios[i];
     SCOPED_TRACE(s.name);
@@ -111,11 +114,12 @@ TEST_F(ParamsTest, OverlayReachesEveryScenarioDefaultsAndArrayElements) {
     EXPECT_DOUBLE_EQ(d_obs.sets[1].membership.a, 0.0);
     EXPECT_DOUBLE_EQ(d_obs.sets[1].membership.b, 0.12);
     EXPECT_DOUBLE_EQ(d_obs.sets[1].membership.c, 0.3);
-    // V_M V1 (of eight gaits) is "Ramp 0.389872 0.303121" (falling): its start becomes 0.5.
+    // V_M V1 (of eight gaits) is "Ramp V_2 V_1" (falling) in the shipped FLL: its start becomes
+    // 0.5, its end stays.
     const Membership& vs = s.fis->inputs[0].sets[0].membership;
     EXPECT_EQ(vs.shape, Membership::Shape::kRampDown);
     EXPECT_DOUBLE_EQ(vs.b, 0.5);
-    EXPECT_DOUBLE_EQ(vs.a, 0.303121);
+    EXPECT_DOUBLE_EQ(vs.a, shipped_v1.a);
   }
   // An element of an array the suite writes: the obstacle of scenario "obstacle" moves, the
   // family's members keep their drawn positions' other keys.

@@ -36,6 +36,43 @@ TEST(SlopeAdaptationTest, GradeOfTwoFeetOnTheTerrainsProfile) {
   EXPECT_TRUE(std::isnan(MeasuredGrade(Vec2(0.05, 0.0), Vec2(0.0, 0.01), 0.1)));
 }
 
+TEST(SlopeAdaptationTest, GradeAheadIsTheProfilesChordWithoutSteps) {
+  // Within one piece the chord's grade is the piece's slope; across a change of grade it is the
+  // angle of the chord between the two heights (closed form); a vertical step's rise is removed.
+  const GroundProfile ground({{1.0, -3.0 * kDeg, 0.0}, {2.0, 2.0 * kDeg, 0.04}});
+  EXPECT_NEAR(GradeAhead(ground, 1.2, 1.6), -3.0 * kDeg, kTolerance);
+  EXPECT_NEAR(GradeAhead(ground, 2.2, 2.6), 2.0 * kDeg, kTolerance);
+  EXPECT_NEAR(GradeAhead(ground, 0.0, 0.5), 0.0, kTolerance);
+  const double rise = 0.4 * std::tan(3.0 * kDeg) - 0.2 * std::tan(2.0 * kDeg);  // up, then down
+  EXPECT_NEAR(GradeAhead(ground, 1.6, 2.2), std::atan(-rise / 0.6), kTolerance);
+  EXPECT_TRUE(std::isnan(GradeAhead(ground, 1.0, 1.005)));
+}
+
+TEST(SlopeAdaptationTest, PreviewAddsTheKnownChangeOfGrade) {
+  SlopeParams p;
+  p.enabled = true;
+  p.filter = 1.0;
+  p.preview = 0.5;
+  SlopeAdaptation a(p);
+  const double feet = 1.0 * kDeg, change = -4.0 * kDeg;
+  a.OnTouchdown(Vec2(0.4, -0.4 * std::tan(feet)), Vec2(0.0, 0.0), change);
+  EXPECT_NEAR(a.slope(), feet + 0.5 * change, kTolerance);
+  // No change known: the feet alone; feet too close for a line: no reading at all.
+  a.OnTouchdown(Vec2(0.4, -0.4 * std::tan(feet)), Vec2(0.0, 0.0));
+  EXPECT_NEAR(a.slope(), feet, kTolerance);
+  a.OnTouchdown(Vec2(0.05, 0.0), Vec2(0.0, 0.0), change);
+  EXPECT_NEAR(a.slope(), feet, kTolerance);
+  // preview = 0 ignores it; a zero change leaves the reading bit for bit.
+  p.preview = 0.0;
+  SlopeAdaptation b(p);
+  b.OnTouchdown(Vec2(0.4, -0.4 * std::tan(feet)), Vec2(0.0, 0.0), change);
+  p.preview = 1.0;
+  SlopeAdaptation c(p);
+  c.OnTouchdown(Vec2(0.4, -0.4 * std::tan(feet)), Vec2(0.0, 0.0), 0.0);
+  EXPECT_EQ(b.slope(), c.slope());
+  EXPECT_EQ(b.slope(), MeasuredGrade(Vec2(0.4, -0.4 * std::tan(feet)), Vec2(0.0, 0.0), 0.1));
+}
+
 TEST(SlopeAdaptationTest, FilterConvergesGeometrically) {
   SlopeParams p;
   p.enabled = true;
@@ -108,6 +145,10 @@ TEST(SlopeAdaptationTest, InvalidParametersAreRefused) {
   p.frame_gain = std::nan("");
   EXPECT_FALSE(p.IsValid(&error));
   EXPECT_NE(error.find("frame_gain"), std::string::npos);
+  p = SlopeParams();
+  p.preview = 2.5;
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("preview"), std::string::npos);
 }
 
 class SlopeKeysTest : public ::testing::Test {
@@ -133,13 +174,14 @@ class SlopeKeysTest : public ::testing::Test {
 TEST_F(SlopeKeysTest, KeysAreRead) {
   const Scenario s =
       LoadScenario(Write("enabled = true\nfilter = 0.7\ntrunk_gain = 2.0\nframe_gain = 1.5\n"
-                         "trunk_max_deg = 10\nslope_max_deg = 8\n"));
+                         "trunk_max_deg = 10\nslope_max_deg = 8\npreview = 0.5\n"));
   EXPECT_TRUE(s.walker.slope.enabled);
   EXPECT_EQ(s.walker.slope.filter, 0.7);
   EXPECT_EQ(s.walker.slope.trunk_gain, 2.0);
   EXPECT_EQ(s.walker.slope.frame_gain, 1.5);
   EXPECT_NEAR(s.walker.slope.trunk_max, 10.0 * kDeg, kTolerance);
   EXPECT_NEAR(s.walker.slope.slope_max, 8.0 * kDeg, kTolerance);
+  EXPECT_EQ(s.walker.slope.preview, 0.5);
 }
 
 TEST_F(SlopeKeysTest, BadValueNamesItsKey) {

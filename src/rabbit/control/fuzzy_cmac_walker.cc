@@ -286,10 +286,22 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   // the trunk forward by several degrees per backward step, into a fall).
   const bool measured = step.t_step > 0.0 && step.l_step > 0.0;
   const Vec2& other_foot = obs.foot_pos[1 - step.leg];
-  slope_.OnTouchdown(obs.terrain != nullptr ? terrain_steps_.LevelledLanding(
-                                                  *obs.terrain, obs.foot_pos[step.leg], other_foot)
-                                            : obs.foot_pos[step.leg],
-                     other_foot);
+  const Vec2& landing = obs.foot_pos[step.leg];
+  // The known change of grade ahead: the profile's grade over the coming step (about as long as
+  // this one, within a gait's range) less its grade between the feet.
+  double grade_change = 0.0;
+  if (obs.terrain != nullptr && std::abs(landing.x() - other_foot.x()) >= 0.01) {
+    const double ahead = GradeAhead(obs.terrain->ground, landing.x(),
+                                    landing.x() + std::clamp(step.l_step, 0.15, 0.6));
+    const double between =
+        GradeAhead(obs.terrain->ground, std::min(landing.x(), other_foot.x()),
+                   std::max(landing.x(), other_foot.x()));
+    grade_change = ahead - between;
+  }
+  slope_.OnTouchdown(
+      obs.terrain != nullptr ? terrain_steps_.LevelledLanding(*obs.terrain, landing, other_foot)
+                             : landing,
+      other_foot, grade_change);
   if (obs.terrain != nullptr) {
     terrain_steps_.OnTouchdown(*obs.terrain, obs.t, obs.foot_pos[step.leg], other_foot);
   }

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <utility>
 
+#include "rabbit/control/terrain_steps.h"
+
 namespace rabbit {
 
 bool SlopeParams::IsValid(std::string* error) const {
@@ -11,7 +13,8 @@ bool SlopeParams::IsValid(std::string* error) const {
                                                     {"min_baseline", min_baseline},
                                                     {"trunk_max", trunk_max},
                                                     {"overshoot_margin", overshoot_margin},
-                                                    {"overshoot_gain", overshoot_gain}};
+                                                    {"overshoot_gain", overshoot_gain},
+                                                    {"preview", preview}};
   for (const auto& [name, value] : bounded) {
     if (!(std::isfinite(value) && value >= 0.0 && value <= 10.0)) {
       *error = std::string("slope.") + name + " must be in [0, 10]";
@@ -20,6 +23,10 @@ bool SlopeParams::IsValid(std::string* error) const {
   }
   if (!(std::isfinite(filter) && filter > 0.0 && filter <= 1.0)) {
     *error = "slope.filter must be in (0, 1]";
+    return false;
+  }
+  if (preview > 2.0) {
+    *error = "slope.preview must be in [0, 2]";
     return false;
   }
   if (slope_max > 0.5 || trunk_max > 0.5) {
@@ -44,12 +51,21 @@ double MeasuredGrade(const Vec2& landing, const Vec2& other, double min_baseline
   return std::atan((other.y() - landing.y()) / dx);
 }
 
+double GradeAhead(const GroundProfile& ground, double x_from, double x_to) {
+  const double dx = x_to - x_from;
+  if (!(dx >= 0.01)) return std::nan("");
+  const double rise =
+      ground.HeightAt(x_to) - ground.HeightAt(x_from) - RiseBetween(ground, x_from, x_to);
+  return std::atan(-rise / dx);
+}
+
 SlopeAdaptation::SlopeAdaptation(const SlopeParams& params) : p_(params) {}
 
-void SlopeAdaptation::OnTouchdown(const Vec2& landing, const Vec2& other) {
+void SlopeAdaptation::OnTouchdown(const Vec2& landing, const Vec2& other, double grade_change) {
   if (!p_.enabled) return;
-  const double grade = MeasuredGrade(landing, other, p_.min_baseline);
+  double grade = MeasuredGrade(landing, other, p_.min_baseline);
   if (!std::isfinite(grade)) return;
+  if (p_.preview > 0.0 && std::isfinite(grade_change)) grade += p_.preview * grade_change;
   slope_ += p_.filter * (std::clamp(grade, -p_.slope_max, p_.slope_max) - slope_);
 }
 

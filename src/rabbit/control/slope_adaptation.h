@@ -7,6 +7,13 @@
 // estimate follows it through a first-order filter over steps,
 //   s = s + filter (clamp(s_meas, +-slope_max) - s),
 // skipping a step whose feet are less than min_baseline apart along x (the line is ill-defined).
+// With preview > 0 the reading also anticipates a change of grade known from the ground profile
+// (as obstacles and steps are known): the grade of the profile over the coming step (from the
+// landing foot to one step length ahead) less its grade between the two feet, steps' rises removed,
+//   s_meas = s_feet + preview (s_ahead - s_between),
+// so that the reactions start at the touchdown before a change of grade instead of a step after.
+// On ground of one grade (flat, or a uniform slope) the two terrain grades are equal and the
+// reading is the feet's alone, bit for bit.
 // Its reactions, each off at a zero gain (fis_gain and overshoot_gain are 0 by default):
 //   trunk lean     q0_d gets -trunk_gain s (an uphill, s < 0, leans the trunk forward), within
 //                  +-trunk_max: a feed-forward beside the velocity control's once-per-step
@@ -25,8 +32,10 @@
 #ifndef RABBIT_CONTROL_SLOPE_ADAPTATION_H_
 #define RABBIT_CONTROL_SLOPE_ADAPTATION_H_
 
+#include <limits>
 #include <string>
 
+#include "rabbit/contact/terrain.h"
 #include "rabbit/model/model.h"
 
 namespace rabbit {
@@ -44,6 +53,7 @@ struct SlopeParams {
   double fis_gain = 0.0;          // m/s of the fuzzy system's velocity per rad of slope
   double overshoot_margin = 0.1;  // m/s of V_M above V_d before the speed cap acts
   double overshoot_gain = 0.0;    // rad of q0_d per m/s of excess
+  double preview = 1.0;           // share of the known change of grade ahead, [0, 2]
   bool IsValid(std::string* error) const;
 };
 
@@ -51,12 +61,19 @@ struct SlopeParams {
 // landing foot and the other; NaN when they are less than min_baseline apart along x.
 double MeasuredGrade(const Vec2& landing, const Vec2& other, double min_baseline);
 
+// The grade (rad, positive descending toward +x) of the ground profile between x_from and x_to
+// (x_to > x_from), the rises of its vertical steps removed; NaN when they are less than 1 cm apart.
+double GradeAhead(const GroundProfile& ground, double x_from, double x_to);
+
 class SlopeAdaptation {
  public:
   explicit SlopeAdaptation(const SlopeParams& params);
 
-  // At each support exchange, with the landing foot's and the other foot's positions.
-  void OnTouchdown(const Vec2& landing, const Vec2& other);
+  // At each support exchange, with the landing foot's and the other foot's positions, and the
+  // known change of grade ahead (GradeAhead over the coming step less GradeAhead between the
+  // feet; NaN or 0 when unknown: the feet alone).
+  void OnTouchdown(const Vec2& landing, const Vec2& other,
+                   double grade_change = std::numeric_limits<double>::quiet_NaN());
   // The filtered slope estimate, rad (0 before the first usable step, or when disabled).
   double slope() const { return slope_; }
   // Added to the trunk's pitch reference q0_d, rad.

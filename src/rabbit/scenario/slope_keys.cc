@@ -27,6 +27,7 @@ void ReadSlopeKeys(TomlReader r, SlopeParams* p) {
   p->fis_gain = bounded("fis_gain", p->fis_gain, -10.0, 10.0);
   p->overshoot_margin = bounded("overshoot_margin", p->overshoot_margin, 0.0, 10.0);
   p->overshoot_gain = bounded("overshoot_gain", p->overshoot_gain, 0.0, 10.0);
+  p->preview = bounded("preview", p->preview, 0.0, 2.0);
   r.Finish();
   std::string error;
   if (!p->IsValid(&error)) r.Fail("", error);

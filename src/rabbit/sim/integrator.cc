@@ -72,7 +72,7 @@ bool IntegratorOptions::IsValid(std::string* error) const {
 
 namespace {
 
-constexpr int kDefaultErkOrder = 3;
+constexpr int kDefaultErkOrder = 4;
 
 // Owns the SUNDIALS context and vector shared by both integrators, and adapts the callbacks.
 class SundialsBase : public OdeIntegrator {

@@ -23,12 +23,12 @@ bool ParseIntegratorName(const std::string& name, IntegratorKind* kind);
 
 struct IntegratorOptions {
   IntegratorKind kind = IntegratorKind::kArkodeErk;
-  double rtol = 1e-6;
-  double atol = 1e-8;
+  double rtol = 1e-5;
+  double atol = 1e-7;
   double max_step = 0.0;            // s; 0 = no limit
   long max_steps_per_call = 20000;  // internal steps allowed between two stops
   // ARKODE: the method's order (2..8). CVODE: the maximum order (BDF 1..5, Adams 1..12). 0 = the
-  // default (ARKODE 3, CVODE its own maximum).
+  // default (ARKODE 4, CVODE its own maximum).
   int order = 0;
   bool IsValid(std::string* error) const;
 };
