@@ -1,6 +1,6 @@
 // The slope adaptation's preview ([controller.slope] preview): the known change of grade ahead is
-// added to the grade read from the feet. On ground of one grade the change is zero and the walk is
-// the same bit for bit as without the preview; where a ramp begins, the walk departs from the
+// added to the grade read from the feet. On flat ground the change is zero and the walk is the
+// same bit for bit as without the preview; where a ramp begins, the walk departs from the
 // walk without it at the touchdown before the ramp (the step that will cross onto it), not later.
 #include <gtest/gtest.h>
 

@@ -12,8 +12,9 @@
 // landing foot to one step length ahead) less its grade between the two feet, steps' rises removed,
 //   s_meas = s_feet + preview (s_ahead - s_between),
 // so that the reactions start at the touchdown before a change of grade instead of a step after.
-// On ground of one grade (flat, or a uniform slope) the two terrain grades are equal and the
-// reading is the feet's alone, bit for bit.
+// On flat ground (and a uniform slope_deg, simulated in the slope's frame) both terrain grades
+// are exactly 0 and the reading is the feet's alone, bit for bit; along one ramp of a profile,
+// or between the flat levels of steps, they are equal to rounding.
 // Its reactions, each off at a zero gain (fis_gain and overshoot_gain are 0 by default):
 //   trunk lean     q0_d gets -trunk_gain s (an uphill, s < 0, leans the trunk forward), within
 //                  +-trunk_max: a feed-forward beside the velocity control's once-per-step
