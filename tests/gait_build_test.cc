@@ -194,6 +194,23 @@ TEST_F(GaitBuildTest, RefusesAnOutThatIsNotADatabaseOrDisagreesWithItsManifest) 
   EXPECT_THROW(Build(targets, "db", 1), InputError);
 }
 
+// A manifest row naming a file the file system cannot even look up (a name longer than its 255-byte
+// limit) is a bad manifest (InputError naming the row's file), not a file-system exception.
+TEST_F(GaitBuildTest, AManifestRowWithANameTooLongForTheFileSystemIsAnInputError) {
+  const std::string name = std::string(300, 'g') + ".csv";
+  const std::string manifest = Write(
+      "manifest.csv", "# format = rabbit-gait-manifest/1\nkind,name,file,sha256,seed,inputs_sha256\n"
+                      "file,," + name + "," + std::string(64, '0') + ",,\n");
+  fs::create_directories(dir_ / "db");
+  try {
+    VerifyManifest(ReadManifest(manifest), (dir_ / "db").string(), manifest);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), name);
+    EXPECT_NE(std::string(e.what()).find("no such file"), std::string::npos) << e.what();
+  }
+}
+
 TEST_F(GaitBuildTest, BadTargetsNameFileLineAndKey) {
   ExpectTargetsError("[[gait]]\nv_m = 0.4\n[[gait]]\nv_m = 0.5\nname = \"vm_0.40\"\n", 5,
                      "gait[2].name", "second target named");
