@@ -43,6 +43,9 @@ class FuzzDir {
   FuzzDir(const FuzzDir&) = delete;
   FuzzDir& operator=(const FuzzDir&) = delete;
 
+  // <dir>/<name>, e.g. for a folder of the target's own.
+  std::filesystem::path Path(const std::string& name) const { return root_ / name; }
+
   // Writes the input to <dir>/<name> (e.g. "scenarios/input.toml") and returns its path.
   std::string Write(const std::string& name, const std::uint8_t* data, std::size_t size) const {
     const std::string path = (root_ / name).string();
