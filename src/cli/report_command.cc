@@ -1,7 +1,7 @@
-// rabbit report DIR [--gnuplot PATH]: rebuilds DIR/comparison.csv and DIR/index.html from the CSV
-// files a batch run wrote (summary.csv and each run's folder), or a tuning job's page (rabbit
-// tune), without re-running anything. When DIR holds the shards of a sharded run
-// (DIR/shards/I-of-N), first merges them into DIR (rabbit/report/shards.h).
+// rabbit report DIR [--gnuplot PATH]: rebuilds DIR/comparison.csv, DIR/push_survival.csv and
+// DIR/index.html from the CSV files a batch run wrote (summary.csv and each run's folder), or a
+// tuning job's page (rabbit tune), without re-running anything. When DIR holds the shards of a
+// sharded run (DIR/shards/I-of-N), first merges them into DIR (rabbit/report/shards.h).
 #include <cstdio>
 #include <filesystem>
 #include <iostream>
@@ -15,8 +15,8 @@
 #include "rabbit/io/output_ownership.h"
 #include "rabbit/report/shards.h"
 #include "rabbit/report/suite_report.h"
-#include "rabbit/scenario/ranks.h"
 #include "rabbit/report/tune_report.h"
+#include "rabbit/scenario/ranks.h"
 
 namespace rabbit::cli {
 namespace {
@@ -121,6 +121,10 @@ Command RegisterReport(CLI::App* app) {
                   "Figures, steps and replays for the first N members of each family only "
                   "(-1: every member)")
       ->check(IntegerIn(-1, kMaxFamilyDetails));
+  cmd->add_option("--survival-bin", args->options.survival_bin_n_s,
+                  "Width in N s of the impulse bins of survival against push impulse "
+                  "(push_survival.csv and its charts, for the families with pushes)")
+      ->check(NumberIn(1e-3, 1000.0, "N s"));
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but warnings and errors");
   return {cmd, [args] { return RunReport(*args); }};
 }

@@ -37,13 +37,14 @@
 #include "rabbit/io/output_ownership.h"
 #include "rabbit/io/test_hooks.h"
 #include "rabbit/report/comparison.h"
-#include "rabbit/scenario/rank_batch.h"
-#include "rabbit/scenario/run_files.h"
+#include "rabbit/report/push_survival.h"
 #include "rabbit/report/shards.h"
 #include "rabbit/report/suite_report.h"
 #include "rabbit/scenario/batch.h"
 #include "rabbit/scenario/params.h"
+#include "rabbit/scenario/rank_batch.h"
 #include "rabbit/scenario/ranks.h"
+#include "rabbit/scenario/run_files.h"
 #include "rabbit/scenario/suite.h"
 #include "rabbit/scenario/suite_inputs.h"
 
@@ -248,6 +249,7 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& plan,
         WriteSuiteReport(staging.string(), report, &warnings);
       } else {
         WriteComparison(staging.string());
+        WritePushSurvival(staging.string(), args.report.survival_bin_n_s, &warnings);
       }
       for (const std::string& w : warnings) std::cerr << "rabbit run: warning: " << w << "\n";
     }
@@ -577,9 +579,13 @@ Command RegisterRun(CLI::App* app) {
                   "Figures, steps and replays for the first N members of each family only "
                   "(-1: every member)")
       ->check(IntegerIn(-1, kMaxFamilyDetails));
+  cmd->add_option("--survival-bin", args->report.survival_bin_n_s,
+                  "Width in N s of the impulse bins of survival against push impulse "
+                  "(push_survival.csv and its charts, for the families with pushes)")
+      ->check(NumberIn(1e-3, 1000.0, "N s"));
   cmd->add_flag(
       "--no-html", [args](std::int64_t) { args->html = false; },
-      "Write the CSV files only (summary.csv, comparison.csv, the runs')");
+      "Write the CSV files only (summary.csv, comparison.csv, push_survival.csv, the runs')");
   cmd->add_flag("--quiet,-q", args->quiet, "Print nothing but errors and warnings");
   cmd->add_flag("--verbose,-v", args->verbose,
                 "Print the data root and every run in the table (default: a family's failed "

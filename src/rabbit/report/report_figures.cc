@@ -529,5 +529,56 @@ size_t OverviewComparisonFigure(const std::vector<VariantComparison>& rows,
   return k;
 }
 
+size_t PushSurvivalFigure(const std::vector<const SurvivalBin*>& bins,
+                          const SuiteReportOptions& options, FigureSet* figures) {
+  // One data block per variant (in order of first appearance), backward bins at negative J; a
+  // blank line between the directions so that no line is drawn across J = 0. Each variant's
+  // points are set a little apart within the bin, so that the intervals do not hide each other.
+  std::vector<std::string> variants;
+  for (const SurvivalBin* b : bins) {
+    if (std::find(variants.begin(), variants.end(), b->variant) == variants.end()) {
+      variants.push_back(b->variant);
+    }
+  }
+  const double width = bins.front()->impulse_max - bins.front()->impulse_min;
+  const double dodge = 0.5 * width / static_cast<double>(variants.size() + 1);
+  double reach = 0.0;
+  std::vector<std::ostringstream> data(variants.size());
+  std::vector<bool> started(variants.size(), false), last_forward(variants.size(), false);
+  for (const SurvivalBin* b : bins) {
+    const size_t v = std::find(variants.begin(), variants.end(), b->variant) - variants.begin();
+    if (started[v] && b->forward && !last_forward[v]) data[v] << '\n';
+    started[v] = true;
+    last_forward[v] = b->forward;
+    const double sign = b->forward ? 1.0 : -1.0;
+    const double shift = (static_cast<double>(v) - 0.5 * static_cast<double>(variants.size() - 1));
+    data[v] << DataNumber(sign * 0.5 * (b->impulse_min + b->impulse_max) + shift * dodge) << ' '
+            << DataNumber(b->success_rate) << ' ' << DataNumber(b->ci.low) << ' '
+            << DataNumber(b->ci.high) << '\n';
+    reach = std::max(reach, b->impulse_max);
+  }
+  const size_t k = figures->Begin(
+      options.figure_width, 340,
+      "Survival against push impulse, family " + HtmlEscape(bins.front()->group) +
+          ": success rate per " + DataNumber(width) +
+          " N s bin of the runs' horizontal impulse J (backward pushes at J &lt; 0, forward at "
+          "J &gt; 0), with 95% Wilson intervals; the bins' counts are in push_survival.csv.",
+      "survival against push impulse, " + bins.front()->group);
+  std::vector<std::string> names;
+  for (std::ostringstream& d : data) names.push_back(figures->AddData(d.str()));
+  std::ostringstream& s = figures->script();
+  s << "set lmargin at screen 0.07\nset rmargin at screen 0.80\nset xrange [" << -reach << ':'
+    << reach << "]\nset yrange [-0.02:1.05]\nset xzeroaxis lt 1 lc rgb '#999999'\n"
+    << "set xlabel 'push impulse J (N s): backward < 0 < forward'\nset ylabel 'success rate'\n"
+    << "set key outside right top vertical\nplot ";
+  for (size_t v = 0; v < variants.size(); ++v) {
+    s << (v == 0 ? "" : ", \\\n  ") << names[v] << " using 1:2:3:4 with yerrorlines lw 1.6 pt 7 "
+      << "ps 0.8 lc rgb '" << VariantColor(variants[v]) << "' title "
+      << GnuplotQuote(VariantShortLabel(variants[v])) << " noenhanced";
+  }
+  s << '\n';
+  return k;
+}
+
 }  // namespace report_internal
 }  // namespace rabbit

@@ -14,6 +14,7 @@
 #include "rabbit/contact/terrain.h"
 #include "rabbit/report/comparison.h"
 #include "rabbit/report/gnuplot.h"
+#include "rabbit/report/push_survival.h"
 #include "rabbit/report/report_data.h"
 #include "rabbit/report/suite_report.h"
 
@@ -92,6 +93,12 @@ size_t GroupComparisonFigure(const std::vector<const VariantComparison*>& varian
 // Every group's success rate per variant (bars side by side) with the Wilson intervals.
 size_t OverviewComparisonFigure(const std::vector<VariantComparison>& rows,
                                 const SuiteReportOptions& options, FigureSet* figures);
+
+// Survival against push impulse of one family (its push_survival.csv rows, push_survival.h): the
+// success rate per impulse bin against the signed impulse, a line per variant with its 95% Wilson
+// intervals. bins must not be empty.
+size_t PushSurvivalFigure(const std::vector<const SurvivalBin*>& bins,
+                          const SuiteReportOptions& options, FigureSet* figures);
 
 }  // namespace report_internal
 }  // namespace rabbit

@@ -15,6 +15,7 @@
 
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/report/comparison.h"
+#include "rabbit/report/push_survival.h"
 #include "rabbit/report/report_data.h"
 #include "rabbit/report/report_figures.h"
 #include "rabbit/report/report_page.h"
@@ -35,6 +36,7 @@ using report_internal::kStyle;
 using report_internal::LastWindow;
 using report_internal::ObstacleWindow;
 using report_internal::OverviewComparisonFigure;
+using report_internal::PushSurvivalFigure;
 using report_internal::ReadRun;
 using report_internal::ReadSummary;
 using report_internal::ReplayHtml;
@@ -112,6 +114,9 @@ bool SuiteReportOptions::IsValid(std::string* error) const {
   }
   if (figure_width < 300 || figure_width > 4000) {
     return fail("figure_width must be within 300..4000 px");
+  }
+  if (!(survival_bin_n_s > 0.0) || !(survival_bin_n_s <= 1000.0)) {
+    return fail("survival_bin_n_s must be within (0, 1000] N s");
   }
   return true;
 }
@@ -222,6 +227,9 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
     }
     head_to_head.back().push_back(&c);
   }
+  // Survival against push impulse of the pushed families, from every member's meta.csv.
+  const std::vector<SurvivalBin> survival =
+      ReadPushSurvival(dir, options.survival_bin_n_s, warnings);
 
   // Which scenarios get their figures, steps and replays: all but the family members beyond the
   // first options.family_details of their family. The others' run files are not read.
@@ -259,11 +267,16 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
   const size_t overview_figure =
       overview ? OverviewComparisonFigure(comparison, options, &figures) : 0;
   std::vector<size_t> group_figures(head_to_head.size(), figures.size());
+  std::vector<std::vector<size_t>> survival_figures(head_to_head.size());
   for (size_t g = 0; g < head_to_head.size(); ++g) {
     // A chart for a family; a plain scenario's one run per variant is its table's row.
-    if (head_to_head[g].front()->family) {
-      group_figures[g] = GroupComparisonFigure(head_to_head[g], options, &figures);
+    if (!head_to_head[g].front()->family) continue;
+    group_figures[g] = GroupComparisonFigure(head_to_head[g], options, &figures);
+    std::vector<const SurvivalBin*> bins;
+    for (const SurvivalBin& b : survival) {
+      if (b.group == head_to_head[g].front()->group) bins.push_back(&b);
     }
+    if (!bins.empty()) survival_figures[g].push_back(PushSurvivalFigure(bins, options, &figures));
   }
   std::vector<std::vector<size_t>> scenario_figures(groups.size());
   for (size_t g = 0; g < groups.size(); ++g) {
@@ -358,7 +371,10 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
                           : std::string("Scenario"))
          << ".</p>\n"
          << ComparisonTable(head_to_head[g]);
-    if (first.family && have_figures) html << figures.figure(group_figures[g]).html;
+    if (first.family && have_figures) {
+      html << figures.figure(group_figures[g]).html;
+      for (size_t k : survival_figures[g]) html << figures.figure(k).html;
+    }
     html << "</div>\n";
   }
   html << "</section>\n";
@@ -412,10 +428,11 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
   }
   html << "</main><script>" << kReplayScript << "</script></body></html>\n";
 
-  // Both files once everything was read: a malformed run file changes neither.
+  // The files once everything was read: a malformed run file changes none of them.
   const std::string comparison_csv = ComparisonCsv(comparison);
   WriteFileAtomically((root / "comparison.csv").string(),
                       [&comparison_csv](std::ostream& out) { out << comparison_csv; });
+  WritePushSurvivalCsv(dir, survival);
   const std::string path = (root / "index.html").string();
   const std::string page = html.str();
   WriteFileAtomically(path, [&page](std::ostream& out) { out << page; });

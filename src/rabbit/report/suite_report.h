@@ -11,9 +11,11 @@
 //   DIR/<run>/terrain.csv     the obstacles
 //   DIR/<run>/ground.csv      the ground profile's breakpoints (optional: flat ground y = 0)
 // Output, DIR/comparison.csv (the head-to-head of the variants per family or plain scenario,
-// rabbit/report/comparison.h) and DIR/index.html: one self-contained page (inline CSS, JS, and
+// rabbit/report/comparison.h), DIR/push_survival.csv (survival against push impulse of the pushed
+// families, rabbit/report/push_survival.h) and DIR/index.html: one self-contained page (inline CSS, JS, and
 // figures as data: images): the head-to-head (an overview chart of every group's success rates,
-// then per group a table of its variants and, for a family, a chart), the summary table grouped
+// then per group a table of its variants and, for a family, a chart, and for a pushed family its
+// survival against impulse), the summary table grouped
 // by scenario (baselines beside the main variant), then per scenario the chapter's figures (stick
 // diagrams at the start and around the first obstacle, V_d / V_M / L_step per step with the
 // baselines overlaid, joint tracking, fuzzy weights per step), drawn by one gnuplot process, and
@@ -41,11 +43,14 @@ struct SuiteReportOptions {
   // table and replays; the others a line naming their runs' outcomes (their rows stay in the
   // summary table and the head-to-head). Negative: every member.
   int family_details = 3;
+  // N s: the width of the impulse bins of survival against push impulse (push_survival.h).
+  double survival_bin_n_s = 5.0;
   // The folder the page names as its source (empty: the folder it is built in). `rabbit run`
   // builds in a staging folder and names the final one.
   std::string source_label;
   // Positive finite times, replay_fps 1..240, replay_decimals 1..9, stick_window / stick_every
-  // at most 1000 figures, figure_width 300..4000, a non-empty gnuplot without newlines.
+  // at most 1000 figures, figure_width 300..4000, survival_bin_n_s in (0, 1000], a non-empty
+  // gnuplot without newlines.
   bool IsValid(std::string* error) const;
 };
 

@@ -362,7 +362,7 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name, const Pa
   }
   // "shards" is where a sharded run's parts wait for their merge (rabbit/report/shards.h).
   if (s.name == "summary.csv" || s.name == "comparison.csv" || s.name == "targets.csv" ||
-      s.name == "members.csv" || s.name == "index.html" || s.name == "shards" || s.name[0] == '.') {
+      s.name == "members.csv" || s.name == "push_survival.csv" || s.name == "index.html" || s.name == "shards" || s.name[0] == '.') {
     root.Fail("name", "\"" + s.name + "\" is taken by the report's own files");
   }
   s.description = root.String("description", "");
