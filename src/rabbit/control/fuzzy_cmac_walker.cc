@@ -313,8 +313,13 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     for (size_t i = measured_.size() - n; i < measured_.size(); ++i) sum += measured_[i];
     v_m_ = sum / static_cast<double>(n);
   }
-  // The command the walker acts on (V_d itself unless velocity_control is enabled).
-  const double v_c = speed_.Command(v_d);
+  // The command the walker acts on (V_d itself unless velocity_control is enabled), raised to the
+  // planner's approach speed near an obstacle.
+  const double v_c = speed_.Command(p_.planner.enabled && obs.terrain != nullptr
+                                        ? ApproachSpeed(p_.planner, obs.terrain->obstacles,
+                                                        std::min(landing.x(), other_foot.x()),
+                                                        std::max(landing.x(), other_foot.x()), v_d)
+                                        : v_d);
   const bool hold_pitch = pitch_hold_left_ > 0;  // planner.hold_pitch_steps after a step over
   if (hold_pitch) --pitch_hold_left_;
   if (measured && !warming_up_ && !hold_pitch) {

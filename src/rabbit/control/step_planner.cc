@@ -29,6 +29,15 @@ bool StepPlannerParams::IsValid(std::string* error) const {
       return false;
     }
   }
+  if (!(std::isfinite(approach_speed) && approach_speed >= 0.0 && approach_speed <= 2.0)) {
+    *error = "planner.approach_speed must be in [0, 2] m/s";
+    return false;
+  }
+  if (!(std::isfinite(approach_distance) && approach_distance >= 0.0 &&
+        approach_distance <= 100.0)) {
+    *error = "planner.approach_distance must be in [0, 100] m";
+    return false;
+  }
   if (!(l_min > 0.0 && l_min < l_max)) {
     *error = "planner: need 0 < l_min < l_max";
     return false;
@@ -74,6 +83,15 @@ StepPlannerParams FollowGait(const StepPlannerParams& p, double l_gait) {
   // A zero-width range (both spreads 0, or l_gait at a bound): the plan still needs l_min < l_max.
   if (!(f.l_max > f.l_min)) f.l_max = f.l_min + 1e-6;
   return f;
+}
+
+double ApproachSpeed(const StepPlannerParams& p, const std::vector<Obstacle>& obstacles,
+                     double back_x, double front_x, double v_d) {
+  if (!(p.approach_speed > v_d)) return v_d;
+  for (const Obstacle& o : obstacles) {
+    if (o.x_start <= front_x + p.approach_distance && o.x_end() > back_x) return p.approach_speed;
+  }
+  return v_d;
 }
 
 StepPlan PlanStep(const StepPlannerParams& p, double d_obs, double obstacle_length) {

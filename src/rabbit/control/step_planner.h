@@ -25,6 +25,7 @@
 #include <string>
 #include <vector>
 
+#include "rabbit/contact/terrain.h"
 #include "rabbit/learn/ts_fis.h"
 
 namespace rabbit {
@@ -88,8 +89,19 @@ struct StepPlannerParams {
   bool follow_gait = false;
   double follow_shorten = 0.06;   // m
   double follow_lengthen = 0.04;  // m
+  // Approach speed: while an obstacle is near (its near edge within approach_distance ahead of
+  // the front foot, its far edge still ahead of the back foot) the walker's speed command is at
+  // least approach_speed, the speed whose steps the lengths above are (0: off; ApproachSpeed).
+  double approach_speed = 0.0;     // m/s
+  double approach_distance = 2.5;  // m
   bool IsValid(std::string* error) const;
 };
+
+// The speed command with the approach speed: max(v_d, p.approach_speed) while an obstacle among
+// `obstacles` has its near edge within p.approach_distance of front_x and its far edge beyond
+// back_x (the feet's x, m); else v_d. v_d itself when p.approach_speed is 0.
+double ApproachSpeed(const StepPlannerParams& p, const std::vector<Obstacle>& obstacles,
+                     double back_x, double front_x, double v_d);
 
 // The planner's settings for a walker whose recent steps measure l_gait (m): l_nominal = l_gait
 // and the approach range of follow_gait (above), l_gait first clamped into [l_min, l_over_max].

@@ -292,6 +292,8 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
         static_cast<int>(pt.Integer("hold_pitch_steps", pp.hold_pitch_steps, 0, 100));
     pp.follow_shorten = pt.Double("follow_shorten", pp.follow_shorten);
     pp.follow_lengthen = pt.Double("follow_lengthen", pp.follow_lengthen);
+    pp.approach_speed = pt.Double("approach_speed", pp.approach_speed);
+    pp.approach_distance = pt.Double("approach_distance", pp.approach_distance);
     pt.Finish();
     std::string planner_error;
     if (!pp.IsValid(&planner_error)) {
