@@ -1,8 +1,9 @@
 // The walker's terrain-step handling (terrain_steps.h): the rise between two points and the next
 // face against the ground profile's own heights, the knee angle that shortens a leg against the
 // law of cosines, the slope reading levelled by a step, the lift's height over a step up, the
-// planner's view of a face, the lean and the stance knee's ramps, nothing when disabled, invalid
-// parameters refused, and the [controller.steps] keys read from a scenario.
+// planner's view of a face, the lean and the stance knee's ramps, the approach speed and the pitch
+// hold after a crossing, nothing when disabled, invalid parameters refused, and the
+// [controller.steps] keys read from a scenario.
 #include "rabbit/control/terrain_steps.h"
 
 #include <gtest/gtest.h>
@@ -163,6 +164,70 @@ TEST(TerrainStepsTest, LeanAndStanceKneeRamps) {
   EXPECT_EQ(off.StanceKnee(1.0), 0.0);
 }
 
+TEST(TerrainStepsTest, ApproachSpeedNearAFace) {
+  const Terrain t = Platform(2.0, 4.0, 0.04);
+  TerrainStepParams p;
+  p.enabled = true;
+  p.up_speed = 0.7;
+  p.down_speed = 0.65;
+  p.speed_before = 1.0;
+  TerrainSteps steps(p);
+  // Before the window: V_d itself, bit for bit.
+  steps.OnTouchdown(t, 1.0, Vec2(0.5, 0.0), Vec2(0.15, 0.0));
+  EXPECT_EQ(steps.SpeedCommand(0.42), 0.42);
+  // The step up within speed_before of the front foot: up_speed in place of V_d, below or above.
+  steps.OnTouchdown(t, 1.5, Vec2(1.2, 0.0), Vec2(0.85, 0.0));
+  EXPECT_EQ(steps.SpeedCommand(0.42), 0.7);
+  EXPECT_EQ(steps.SpeedCommand(0.8), 0.7);
+  // Until the back foot has crossed it.
+  steps.OnTouchdown(t, 2.0, Vec2(2.15, 0.04), Vec2(1.8, 0.0));
+  EXPECT_EQ(steps.SpeedCommand(0.42), 0.7);
+  steps.OnTouchdown(t, 2.5, Vec2(2.5, 0.04), Vec2(2.15, 0.04));
+  EXPECT_EQ(steps.SpeedCommand(0.42), 0.42);
+  // The step down within speed_before: down_speed.
+  steps.OnTouchdown(t, 3.0, Vec2(3.2, 0.04), Vec2(2.85, 0.04));
+  EXPECT_EQ(steps.SpeedCommand(0.42), 0.65);
+  // Both faces in the window: the larger speed.
+  const Terrain short_platform = Platform(2.0, 2.6, 0.04);
+  steps.OnTouchdown(short_platform, 3.5, Vec2(1.5, 0.0), Vec2(1.15, 0.0));
+  EXPECT_EQ(steps.SpeedCommand(0.42), 0.7);
+  // No speed given for a step up (0), or disabled: V_d.
+  p.up_speed = 0.0;
+  TerrainSteps no_up(p);
+  no_up.OnTouchdown(t, 1.5, Vec2(1.2, 0.0), Vec2(0.85, 0.0));
+  EXPECT_EQ(no_up.SpeedCommand(0.42), 0.42);
+  TerrainSteps off{TerrainStepParams()};
+  off.OnTouchdown(t, 1.5, Vec2(1.2, 0.0), Vec2(0.85, 0.0));
+  EXPECT_EQ(off.SpeedCommand(0.42), 0.42);
+}
+
+TEST(TerrainStepsTest, PitchHoldAfterACrossing) {
+  const Terrain t = Platform(2.0, 9.0, 0.04);
+  TerrainStepParams p;
+  p.enabled = true;
+  p.hold_steps = 2;
+  TerrainSteps steps(p);
+  steps.OnTouchdown(t, 1.0, Vec2(1.45, 0.0), Vec2(1.1, 0.0));
+  steps.OnTouchdown(t, 1.5, Vec2(1.8, 0.0), Vec2(1.45, 0.0));
+  EXPECT_FALSE(steps.HoldsPitch());
+  // The step across (from 1.45 m) and the trailing leg's (from 1.8 m) cross the face; the hold
+  // lasts hold_steps touchdowns from the last of them.
+  steps.OnTouchdown(t, 2.0, Vec2(2.15, 0.04), Vec2(1.8, 0.0));
+  EXPECT_TRUE(steps.HoldsPitch());
+  steps.OnTouchdown(t, 2.5, Vec2(2.5, 0.04), Vec2(2.15, 0.04));
+  EXPECT_TRUE(steps.HoldsPitch());
+  steps.OnTouchdown(t, 3.0, Vec2(2.85, 0.04), Vec2(2.5, 0.04));
+  EXPECT_TRUE(steps.HoldsPitch());
+  steps.OnTouchdown(t, 3.5, Vec2(3.2, 0.04), Vec2(2.85, 0.04));
+  EXPECT_FALSE(steps.HoldsPitch());
+  // hold_steps = 0: never.
+  p.hold_steps = 0;
+  TerrainSteps none(p);
+  none.OnTouchdown(t, 1.5, Vec2(1.8, 0.0), Vec2(1.45, 0.0));
+  none.OnTouchdown(t, 2.0, Vec2(2.15, 0.04), Vec2(1.8, 0.0));
+  EXPECT_FALSE(none.HoldsPitch());
+}
+
 TEST(TerrainStepsTest, InvalidParametersAreRefused) {
   std::string error;
   TerrainStepParams p;
@@ -175,6 +240,15 @@ TEST(TerrainStepsTest, InvalidParametersAreRefused) {
   EXPECT_FALSE(p.IsValid(&error));
   p = TerrainStepParams();
   p.up_lean = std::nan("");
+  EXPECT_FALSE(p.IsValid(&error));
+  p = TerrainStepParams();
+  p.up_speed = -0.1;
+  EXPECT_FALSE(p.IsValid(&error));
+  p = TerrainStepParams();
+  p.speed_before = 6.0;
+  EXPECT_FALSE(p.IsValid(&error));
+  p = TerrainStepParams();
+  p.hold_steps = -1;
   EXPECT_FALSE(p.IsValid(&error));
 }
 
@@ -201,13 +275,18 @@ class TerrainStepKeysTest : public ::testing::Test {
 TEST_F(TerrainStepKeysTest, KeysAreRead) {
   const Scenario s = LoadScenario(
       Write("enabled = true\nclearance = 0.05\nup_lean = 6.0\nknee_share = 0.3\nlean_steps = 3\n"
-            "placement = false\n"));
+            "placement = false\nup_speed = 0.75\ndown_speed = 0.6\nspeed_before = 3.0\n"
+            "hold_steps = 3\n"));
   EXPECT_TRUE(s.walker.steps.enabled);
   EXPECT_EQ(s.walker.steps.clearance, 0.05);
   EXPECT_EQ(s.walker.steps.up_lean, 6.0);
   EXPECT_EQ(s.walker.steps.knee_share, 0.3);
   EXPECT_EQ(s.walker.steps.lean_steps, 3);
   EXPECT_FALSE(s.walker.steps.placement);
+  EXPECT_EQ(s.walker.steps.up_speed, 0.75);
+  EXPECT_EQ(s.walker.steps.down_speed, 0.6);
+  EXPECT_EQ(s.walker.steps.speed_before, 3.0);
+  EXPECT_EQ(s.walker.steps.hold_steps, 3);
 }
 
 TEST_F(TerrainStepKeysTest, BadValueNamesItsKey) {

@@ -314,15 +314,18 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     v_m_ = sum / static_cast<double>(n);
   }
   // The command the walker acts on (V_d itself unless velocity_control is enabled), raised to the
-  // planner's approach speed near an obstacle.
-  const double v_c = speed_.Command(p_.planner.enabled && obs.terrain != nullptr
-                                        ? ApproachSpeed(p_.planner, obs.terrain->obstacles,
-                                                        std::min(landing.x(), other_foot.x()),
-                                                        std::max(landing.x(), other_foot.x()), v_d)
-                                        : v_d);
+  // planner's approach speed near an obstacle; near a step, the step handling's approach speed
+  // instead.
+  const double v_c = speed_.Command(terrain_steps_.SpeedCommand(
+      p_.planner.enabled && obs.terrain != nullptr
+          ? ApproachSpeed(p_.planner, obs.terrain->obstacles, std::min(landing.x(), other_foot.x()),
+                          std::max(landing.x(), other_foot.x()), v_d)
+          : v_d));
   const bool hold_pitch = pitch_hold_left_ > 0;  // planner.hold_pitch_steps after a step over
   if (hold_pitch) --pitch_hold_left_;
-  if (measured && !warming_up_ && !hold_pitch) {
+  // Nor at the steps.hold_steps touchdowns from a step's crossing (its V_M is the climb's or the
+  // drop's, not the gait's).
+  if (measured && !warming_up_ && !hold_pitch && !terrain_steps_.HoldsPitch()) {
     q0_d_ = speed_.Update(v_m_, step.t_step, slope_.OvershootCorrection(v_m_, v_c));
   }
   const double front = obs.foot_pos[step.leg].x();

@@ -28,16 +28,26 @@ bool TerrainStepParams::IsValid(std::string* error) const {
                                                     {"knee_ramp_s", knee_ramp_s},
                                                     {"face_before", face_before},
                                                     {"face_after", face_after},
-                                                    {"up_knee_ramp_s", up_knee_ramp_s}};
+                                                    {"up_knee_ramp_s", up_knee_ramp_s},
+                                                    {"up_speed", up_speed},
+                                                    {"down_speed", down_speed}};
   for (const auto& [name, value] : lengths) {
     if (!(std::isfinite(value) && value >= 0.0 && value <= 2.0)) {
       *error = std::string("steps.") + name + " must be in [0, 2]";
       return false;
     }
   }
+  if (!(std::isfinite(speed_before) && speed_before >= 0.0 && speed_before <= 5.0)) {
+    *error = "steps.speed_before must be in [0, 5] m";
+    return false;
+  }
   if (!(std::isfinite(up_lean) && std::abs(up_lean) <= 20.0) ||
       !(std::isfinite(down_lean) && std::abs(down_lean) <= 20.0)) {
     *error = "steps.up_lean and steps.down_lean must be in [-20, 20] rad/m";
+    return false;
+  }
+  if (hold_steps < 0 || hold_steps > 100) {
+    *error = "steps.hold_steps must be in [0, 100]";
     return false;
   }
   if (lean_steps < 0 || lean_steps > 100) {
@@ -94,6 +104,22 @@ void TerrainSteps::OnTouchdown(const Terrain& terrain, double t, const Vec2& lan
     }
   }
   const StepFace crossed = StepIn(ground, front, predicted + p_.reach);
+  // The approach speed: the faces between the back foot and speed_before ahead of the front one.
+  approach_speed_ = 0.0;
+  for (const SlopeBreak& b : ground.breaks()) {
+    if (b.rise != 0.0 && b.x_start > std::min(back, front) &&
+        b.x_start <= front + p_.speed_before) {
+      approach_speed_ = std::max(approach_speed_, b.rise > 0.0 ? p_.up_speed : p_.down_speed);
+    }
+  }
+  // The hold: the step just taken crossed a face (from its take-off, the other foot's x at the
+  // last touchdown, to the landing).
+  const double takeoff = std::isnan(takeoff_) ? back : takeoff_;
+  takeoff_ = back;
+  if (hold_left_ > 0) --hold_left_;
+  if (StepIn(ground, std::min(takeoff, front), std::max(takeoff, front)).found) {
+    hold_left_ = p_.hold_steps;
+  }
   if (lean_left_ > 0) --lean_left_;
   knee_from_ = knee_to_ = 0.0;
   knee_t0_ = t;

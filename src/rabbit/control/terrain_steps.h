@@ -25,11 +25,21 @@
 //                  swing foot instead of falling onto the lower level; after a landing on the
 //                  upper level of a step up the new stance knee starts flexed so that the leg is
 //                  shorter by up_knee_share times the rise and extends over up_knee_ramp_s: the
-//                  knee lifts the hip onto the step.
+//                  knee lifts the hip onto the step;
+//   approach speed  while a step up's (down's) face lies between the back foot and speed_before
+//                  beyond the front foot, the walker acts on up_speed (down_speed) in place of
+//                  V_d (through the velocity control's rate limit), the larger when both: at a
+//                  V_d near 0.4 m/s the robot crosses too slowly to climb, and the planner's
+//                  approach steps (the 0.6 m/s walk's) topple it; at 0.8 m/s it falls off a step
+//                  down;
+//   pitch hold     for hold_steps touchdowns from each landing whose step crossed a face, the
+//                  velocity control leaves q0_d unchanged (that step's V_M is the climb's or the
+//                  drop's).
 // With enabled = false every output is neutral (the walker is unchanged bit for bit).
 #ifndef RABBIT_CONTROL_TERRAIN_STEPS_H_
 #define RABBIT_CONTROL_TERRAIN_STEPS_H_
 
+#include <cmath>
 #include <string>
 
 #include "rabbit/contact/terrain.h"
@@ -57,6 +67,11 @@ struct TerrainStepParams {
   double knee_ramp_s = 0.25;     // s: the knee's flexion comes in over this after the touchdown
   double up_knee_share = 1.0;    // share of a rise the stance knee extends through after a step up
   double up_knee_ramp_s = 0.25;  // s: the knee extends over this after landing on the upper level
+  // Off (0) here; the adaptive preset sets them (walker_presets.cc).
+  double up_speed = 0.0;      // m/s: the speed asked for approaching a step up (0: V_d)
+  double down_speed = 0.0;    // m/s: the same approaching a step down (0: V_d)
+  double speed_before = 2.5;  // m: from a front foot this far before the face
+  int hold_steps = 0;         // touchdowns from a face's crossing that leave q0_d unchanged
   double thigh_length = 0.40, shin_length = 0.47;  // m: the model's (set by the runner, not keys)
   bool IsValid(std::string* error) const;
 };
@@ -100,6 +115,16 @@ class TerrainSteps {
   // +infinity (and *length untouched) when disabled, placement is off, or there is no face.
   double FaceAhead(const Terrain& terrain, double x, double horizon, double margin_before,
                    double margin_after, double* length) const;
+  // The speed the walker is to act on for the coming step (m/s): up_speed (or down_speed) in
+  // place of v_d while a step up's (down's) face lies between the back foot and speed_before
+  // beyond the front foot, the larger of the two when both do; v_d when none does or that speed
+  // is 0.
+  double SpeedCommand(double v_d) const {
+    return p_.enabled && approach_speed_ > 0.0 ? approach_speed_ : v_d;
+  }
+  // Whether the velocity control is to leave q0_d unchanged at this touchdown: hold_steps
+  // touchdowns from the one that ends a step crossing a face.
+  bool HoldsPitch() const { return p_.enabled && hold_left_ > 0; }
   // Added to q0_d, rad.
   double TrunkOffset() const { return p_.enabled && lean_left_ > 0 ? lean_ : 0.0; }
   // Added to the stance knee's reference at t, rad (<= 0).
@@ -108,6 +133,9 @@ class TerrainSteps {
  private:
   TerrainStepParams p_;
   StepFace lift_face_;                      // the step up the coming swing crosses
+  double approach_speed_ = 0.0;             // m/s: 0 unless approaching a step
+  int hold_left_ = 0;                       // touchdowns the hold still lasts
+  double takeoff_ = NAN;                    // m: the swinging foot's x at the last touchdown
   int lean_left_ = 0;                       // touchdowns the lean still lasts
   double lean_ = 0.0;                       // rad
   double knee_from_ = 0.0, knee_to_ = 0.0;  // rad: the stance knee's ramp (<= 0)

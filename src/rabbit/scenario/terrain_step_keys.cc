@@ -27,6 +27,10 @@ void ReadTerrainStepKeys(TomlReader r, TerrainStepParams* p) {
   p->knee_ramp_s = in("knee_ramp_s", p->knee_ramp_s, 0.0, 2.0, "[0, 2] s");
   p->up_knee_share = in("up_knee_share", p->up_knee_share, 0.0, 1.0, "[0, 1]");
   p->up_knee_ramp_s = in("up_knee_ramp_s", p->up_knee_ramp_s, 0.0, 2.0, "[0, 2] s");
+  p->up_speed = in("up_speed", p->up_speed, 0.0, 2.0, "[0, 2] m/s");
+  p->down_speed = in("down_speed", p->down_speed, 0.0, 2.0, "[0, 2] m/s");
+  p->speed_before = in("speed_before", p->speed_before, 0.0, 5.0, "[0, 5] m");
+  p->hold_steps = static_cast<int>(r.Integer("hold_steps", p->hold_steps, 0, 100));
   r.Finish();
   std::string error;
   if (!p->IsValid(&error)) r.Fail("", error);
