@@ -26,7 +26,7 @@
 //                  upper level of a step up the new stance knee starts flexed so that the leg is
 //                  shorter by up_knee_share times the rise and extends over up_knee_ramp_s: the
 //                  knee lifts the hip onto the step;
-//   approach speed  while a step up's (down's) face lies between the back foot and speed_before
+//   approach       while a step up's (down's) face lies between the back foot and speed_before
 //                  beyond the front foot, the walker acts on up_speed (down_speed) in place of
 //                  V_d (through the velocity control's rate limit), the larger when both: at a
 //                  V_d near 0.4 m/s the robot crosses too slowly to climb, and the planner's

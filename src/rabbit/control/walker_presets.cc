@@ -46,7 +46,8 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       w.steps.enabled = true;
       // Approaching a step the walker asks for 0.7 m/s (up) or 0.65 m/s (down) instead of V_d
       // from 2.5 m before its face, and leaves q0_d unchanged for two touchdowns from its
-      // crossing: 100 of 120 against 51 without (docs/design.md, "Steps and platforms").
+      // crossing: 100 of 120 training members against 51 without them (docs/design.md, "Steps
+      // and platforms").
       w.steps.up_speed = 0.7;
       w.steps.down_speed = 0.65;
       w.steps.speed_before = 2.5;
