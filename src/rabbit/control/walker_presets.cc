@@ -41,7 +41,7 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       w.planner.approach_speed = 0.7;
       w.slope.enabled = true;
       w.velocity_control.enabled = true;
-      // Steps and platforms: 54 of 120 training members (scenarios/train/steps.toml) against 4
+      // Steps and platforms: 51 of 120 training members (scenarios/train/steps.toml) against 4
       // without (docs/design.md, "Steps and platforms").
       w.steps.enabled = true;
       // Approaching a step the walker asks for 0.7 m/s (up) or 0.65 m/s (down) instead of V_d
