@@ -313,14 +313,16 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     for (size_t i = measured_.size() - n; i < measured_.size(); ++i) sum += measured_[i];
     v_m_ = sum / static_cast<double>(n);
   }
-  // The command the walker acts on (V_d itself unless velocity_control is enabled), raised to the
-  // planner's approach speed near an obstacle; near a step, the step handling's approach speed
-  // instead.
+  // The command the walker acts on (V_d itself unless velocity_control is enabled): moved by the
+  // slope adaptation for the grades ahead (V_d itself on flat ground), raised to the planner's
+  // approach speed near an obstacle; near a step, the step handling's approach speed instead.
+  const double v_slope =
+      obs.terrain != nullptr ? slope_.SpeedCommand(v_d, obs.terrain->ground, landing.x()) : v_d;
   const double v_c = speed_.Command(terrain_steps_.SpeedCommand(
       p_.planner.enabled && obs.terrain != nullptr
           ? ApproachSpeed(p_.planner, obs.terrain->obstacles, std::min(landing.x(), other_foot.x()),
-                          std::max(landing.x(), other_foot.x()), v_d)
-          : v_d));
+                          std::max(landing.x(), other_foot.x()), v_slope)
+          : v_slope));
   const bool hold_pitch = pitch_hold_left_ > 0;  // planner.hold_pitch_steps after a step over
   if (hold_pitch) --pitch_hold_left_;
   // Nor at the steps.hold_steps touchdowns from a step's crossing (its V_M is the climb's or the

@@ -14,7 +14,10 @@ bool SlopeParams::IsValid(std::string* error) const {
                                                     {"trunk_max", trunk_max},
                                                     {"overshoot_margin", overshoot_margin},
                                                     {"overshoot_gain", overshoot_gain},
-                                                    {"preview", preview}};
+                                                    {"preview", preview},
+                                                    {"uphill_boost", uphill_boost},
+                                                    {"downhill_brake", downhill_brake},
+                                                    {"speed_lookahead", speed_lookahead}};
   for (const auto& [name, value] : bounded) {
     if (!(std::isfinite(value) && value >= 0.0 && value <= 10.0)) {
       *error = std::string("slope.") + name + " must be in [0, 10]";
@@ -59,6 +62,16 @@ double GradeAhead(const GroundProfile& ground, double x_from, double x_to) {
   return std::atan(-rise / dx);
 }
 
+std::pair<double, double> SteepestAhead(const GroundProfile& ground, double x_from, double x_to) {
+  double up = 0.0, down = 0.0;
+  const int last = ground.SegmentAt(x_to);
+  for (int i = ground.SegmentAt(x_from); i <= last; ++i) {
+    up = std::max(up, -ground.segment(i).slope);
+    down = std::max(down, ground.segment(i).slope);
+  }
+  return {up, down};
+}
+
 SlopeAdaptation::SlopeAdaptation(const SlopeParams& params) : p_(params) {}
 
 void SlopeAdaptation::OnTouchdown(const Vec2& landing, const Vec2& other, double grade_change) {
@@ -78,6 +91,13 @@ double SlopeAdaptation::FrameAngle() const { return p_.enabled ? -p_.frame_gain 
 
 double SlopeAdaptation::FisVelocityOffset() const {
   return p_.enabled ? p_.fis_gain * slope_ : 0.0;
+}
+
+double SlopeAdaptation::SpeedCommand(double v_d, const GroundProfile& ground, double x) const {
+  if (!p_.enabled || (p_.uphill_boost == 0.0 && p_.downhill_brake == 0.0)) return v_d;
+  const auto [up, down] = SteepestAhead(ground, x, x + p_.speed_lookahead);
+  const double change = p_.uphill_boost * up - p_.downhill_brake * down;
+  return change != 0.0 ? v_d + change : v_d;
 }
 
 double SlopeAdaptation::OvershootCorrection(double v_m, double v_d) const {

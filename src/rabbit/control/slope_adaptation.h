@@ -28,13 +28,23 @@
 //   speed cap      at a touchdown whose stride V_M exceeds V_d by more than overshoot_margin, q0_d
 //                  moves back by overshoot_gain times the excess (rad per m/s), within the
 //                  walker's q0_d range: a braking lean that the velocity control's small gain
-//                  gives too slowly when a downhill keeps accelerating the robot.
+//                  gives too slowly when a downhill keeps accelerating the robot;
+//   speed command  the command the walker acts on (V_d, before the velocity control's rate limit)
+//                  is raised by uphill_boost times the steepest uphill grade, and lowered by
+//                  downhill_brake times the steepest downhill grade, of the known ground profile's
+//                  pieces from the landing foot to speed_lookahead ahead (m/s per rad): the robot
+//                  gathers speed before an uphill begins and keeps it on the climb, and slows
+//                  down with shorter steps before and on a downhill. It acts through the velocity
+//                  control (rate limit, pitch feed-forward) and the fuzzy system's lead. Flat
+//                  pieces (flat ground, a uniform slope_deg simulated in its own frame, the levels
+//                  of vertical steps) give exactly 0: V_d unchanged, bit for bit.
 // With enabled = false every output is 0 (the walker is unchanged).
 #ifndef RABBIT_CONTROL_SLOPE_ADAPTATION_H_
 #define RABBIT_CONTROL_SLOPE_ADAPTATION_H_
 
 #include <limits>
 #include <string>
+#include <utility>
 
 #include "rabbit/contact/terrain.h"
 #include "rabbit/model/model.h"
@@ -55,6 +65,10 @@ struct SlopeParams {
   double overshoot_margin = 0.1;  // m/s of V_M above V_d before the speed cap acts
   double overshoot_gain = 0.0;    // rad of q0_d per m/s of excess
   double preview = 1.0;           // share of the known change of grade ahead, [0, 2]
+  // Off here (the adaptive preset sets 1 and 3: walker_presets.cc).
+  double uphill_boost = 0.0;     // m/s of the speed command per rad of uphill grade ahead
+  double downhill_brake = 0.0;   // m/s taken off the speed command per rad of downhill grade ahead
+  double speed_lookahead = 1.0;  // m ahead of the landing foot searched for those grades
   bool IsValid(std::string* error) const;
 };
 
@@ -65,6 +79,10 @@ double MeasuredGrade(const Vec2& landing, const Vec2& other, double min_baseline
 // The grade (rad, positive descending toward +x) of the ground profile between x_from and x_to
 // (x_to > x_from), the rises of its vertical steps removed; NaN when they are less than 1 cm apart.
 double GradeAhead(const GroundProfile& ground, double x_from, double x_to);
+
+// The steepest uphill (first) and downhill (second) grades, rad and >= 0, of the ground profile's
+// pieces that overlap [x_from, x_to]; 0 when none ascends (descends): flat pieces give (0, 0).
+std::pair<double, double> SteepestAhead(const GroundProfile& ground, double x_from, double x_to);
 
 class SlopeAdaptation {
  public:
@@ -84,6 +102,9 @@ class SlopeAdaptation {
   double FrameAngle() const;
   // Added to the velocity the fuzzy system sees, m/s.
   double FisVelocityOffset() const;
+  // The speed command for V_d with the ground profile ahead of the landing foot at x: V_d itself
+  // when disabled, with zero gains, or when the pieces ahead are flat.
+  double SpeedCommand(double v_d, const GroundProfile& ground, double x) const;
   // Change of q0_d (rad, <= 0) at a touchdown with stride velocity v_m and desired v_d.
   double OvershootCorrection(double v_m, double v_d) const;
 

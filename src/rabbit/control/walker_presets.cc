@@ -40,6 +40,10 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // 383 (docs/design.md, "The step planner").
       w.planner.approach_speed = 0.7;
       w.slope.enabled = true;
+      // The speed command moves with the grades ahead: up before and on an uphill, down before
+      // and on a downhill (docs/design.md, "Slope adaptation"; neutral on flat ground).
+      w.slope.uphill_boost = 1.0;
+      w.slope.downhill_brake = 3.0;
       w.velocity_control.enabled = true;
       // Steps and platforms: 51 of 120 training members (scenarios/train/steps.toml) against 4
       // without (docs/design.md, "Steps and platforms").
