@@ -41,6 +41,14 @@ TEST(SlopeSpeedTest, CommandFollowsItsLaw) {
   EXPECT_DOUBLE_EQ(a.SpeedCommand(0.6, ground, 5.5),
                    0.6 + 1.5 * 4.0 * kDeg - 2.0 * 3.0 * kDeg);  // the valley: both
   EXPECT_DOUBLE_EQ(a.SpeedCommand(0.6, ground, 7.0), 0.6 - 2.0 * 3.0 * kDeg);
+  // The brake stops at speed_floor, or at V_d when V_d is below it; the boost is not limited.
+  p.downhill_brake = 6.0;  // 0.6 - 6 * 3 deg = 0.286 m/s
+  p.speed_floor = 0.4;
+  EXPECT_EQ(SlopeAdaptation(p).SpeedCommand(0.6, ground, 7.0), 0.4);
+  EXPECT_EQ(SlopeAdaptation(p).SpeedCommand(0.35, ground, 7.0), 0.35);
+  EXPECT_DOUBLE_EQ(SlopeAdaptation(p).SpeedCommand(0.6, ground, 1.2), 0.6 + 1.5 * 4.0 * kDeg);
+  p.speed_floor = 0.0;
+  p.downhill_brake = 2.0;
   p.speed_lookahead = 0.5;
   EXPECT_EQ(SlopeAdaptation(p).SpeedCommand(0.6, ground, 1.2), 0.6);  // out of reach
   // Zero gains, or the adaptation off: V_d itself.
@@ -93,6 +101,7 @@ TEST_F(SlopeSpeedWalkTest, TheAdaptivePresetSetsTheGains) {
   const Scenario s = Load("", "", 1.0);
   EXPECT_EQ(s.walker.slope.uphill_boost, 1.0);
   EXPECT_EQ(s.walker.slope.downhill_brake, 3.0);
+  EXPECT_EQ(s.walker.slope.speed_floor, 0.4);
   EXPECT_EQ(s.walker.slope.speed_lookahead, 1.0);
   const Scenario read =
       Load("", "uphill_boost = 0.5\ndownhill_brake = 2\nspeed_lookahead = 0.7\n", 1.0);

@@ -17,7 +17,8 @@ bool SlopeParams::IsValid(std::string* error) const {
                                                     {"preview", preview},
                                                     {"uphill_boost", uphill_boost},
                                                     {"downhill_brake", downhill_brake},
-                                                    {"speed_lookahead", speed_lookahead}};
+                                                    {"speed_lookahead", speed_lookahead},
+                                                    {"speed_floor", speed_floor}};
   for (const auto& [name, value] : bounded) {
     if (!(std::isfinite(value) && value >= 0.0 && value <= 10.0)) {
       *error = std::string("slope.") + name + " must be in [0, 10]";
@@ -97,7 +98,8 @@ double SlopeAdaptation::SpeedCommand(double v_d, const GroundProfile& ground, do
   if (!p_.enabled || (p_.uphill_boost == 0.0 && p_.downhill_brake == 0.0)) return v_d;
   const auto [up, down] = SteepestAhead(ground, x, x + p_.speed_lookahead);
   const double change = p_.uphill_boost * up - p_.downhill_brake * down;
-  return change != 0.0 ? v_d + change : v_d;
+  if (change == 0.0) return v_d;
+  return std::max(v_d + change, std::min(v_d, p_.speed_floor));
 }
 
 double SlopeAdaptation::OvershootCorrection(double v_m, double v_d) const {

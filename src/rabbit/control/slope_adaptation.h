@@ -37,7 +37,8 @@
 //                  down with shorter steps before and on a downhill. It acts through the velocity
 //                  control (rate limit, pitch feed-forward) and the fuzzy system's lead. Flat
 //                  pieces (flat ground, a uniform slope_deg simulated in its own frame, the levels
-//                  of vertical steps) give exactly 0: V_d unchanged, bit for bit.
+//                  of vertical steps) give exactly 0: V_d unchanged, bit for bit. The brake stops
+//                  at speed_floor (or at V_d, when V_d is lower).
 // With enabled = false every output is 0 (the walker is unchanged).
 #ifndef RABBIT_CONTROL_SLOPE_ADAPTATION_H_
 #define RABBIT_CONTROL_SLOPE_ADAPTATION_H_
@@ -69,6 +70,8 @@ struct SlopeParams {
   double uphill_boost = 0.0;     // m/s of the speed command per rad of uphill grade ahead
   double downhill_brake = 0.0;   // m/s taken off the speed command per rad of downhill grade ahead
   double speed_lookahead = 1.0;  // m ahead of the landing foot searched for those grades
+  // m/s: the brake never takes the command below this (or below V_d, when V_d is lower); 0: off.
+  double speed_floor = 0.0;
   bool IsValid(std::string* error) const;
 };
 

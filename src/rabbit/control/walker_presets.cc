@@ -44,6 +44,7 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // and on a downhill (docs/design.md, "Slope adaptation"; neutral on flat ground).
       w.slope.uphill_boost = 1.0;
       w.slope.downhill_brake = 3.0;
+      w.slope.speed_floor = 0.4;  // the brake stops at 0.4 m/s (docs/design.md)
       w.velocity_control.enabled = true;
       // Steps and platforms: 51 of 120 training members (scenarios/train/steps.toml) against 4
       // without (docs/design.md, "Steps and platforms").

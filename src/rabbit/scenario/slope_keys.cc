@@ -31,6 +31,7 @@ void ReadSlopeKeys(TomlReader r, SlopeParams* p) {
   p->uphill_boost = bounded("uphill_boost", p->uphill_boost, 0.0, 10.0);
   p->downhill_brake = bounded("downhill_brake", p->downhill_brake, 0.0, 10.0);
   p->speed_lookahead = bounded("speed_lookahead", p->speed_lookahead, 0.0, 10.0);
+  p->speed_floor = bounded("speed_floor", p->speed_floor, 0.0, 2.0);
   r.Finish();
   std::string error;
   if (!p->IsValid(&error)) r.Fail("", error);
