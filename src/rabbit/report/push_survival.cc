@@ -110,12 +110,11 @@ std::string PushSurvivalCsv(const std::vector<SurvivalBin>& bins) {
   return out;
 }
 
-std::vector<SurvivalBin> ReadPushSurvival(const std::string& dir, double bin_width,
+std::vector<SurvivalBin> ReadPushSurvival(const std::string& dir,
+                                          const std::vector<SummaryRow>& rows, double bin_width,
                                           std::vector<std::string>* warnings) {
   namespace fs = std::filesystem;
   const fs::path root(dir);
-  const std::vector<SummaryRow> rows =
-      report_internal::ReadSummary((root / "summary.csv").string());
   std::vector<double> impulses(rows.size(), std::numeric_limits<double>::quiet_NaN());
   int missing = 0;
   for (size_t i = 0; i < rows.size(); ++i) {
@@ -146,7 +145,9 @@ bool WritePushSurvivalCsv(const std::string& dir, const std::vector<SurvivalBin>
 
 std::vector<SurvivalBin> WritePushSurvival(const std::string& dir, double bin_width,
                                            std::vector<std::string>* warnings) {
-  std::vector<SurvivalBin> bins = ReadPushSurvival(dir, bin_width, warnings);
+  const std::vector<SurvivalBin> bins = ReadPushSurvival(
+      dir, report_internal::ReadSummary((std::filesystem::path(dir) / "summary.csv").string()),
+      bin_width, warnings);
   WritePushSurvivalCsv(dir, bins);
   return bins;
 }

@@ -56,15 +56,17 @@ std::vector<SurvivalBin> PushSurvival(const std::vector<report_internal::Summary
 std::string PushSurvivalHeader();
 std::string PushSurvivalCsv(const std::vector<SurvivalBin>& bins);
 
-// Reads DIR/summary.csv and every family member's DIR/<run>/meta.csv and returns the bins. A
-// member whose meta.csv is missing (its folder deleted) is left out, with one warning in
-// *warnings (may be null) for all of them; a malformed meta.csv or summary throws InputError.
-std::vector<SurvivalBin> ReadPushSurvival(const std::string& dir, double bin_width,
-                                          std::vector<std::string>* warnings);
+// The bins of DIR's summary rows (as ReadSummary read them), from every family member's
+// DIR/<run>/meta.csv. A member whose meta.csv is missing (its folder deleted) is left out, with
+// one warning in *warnings (may be null) for all of them; a malformed meta.csv throws InputError.
+std::vector<SurvivalBin> ReadPushSurvival(const std::string& dir,
+                                          const std::vector<report_internal::SummaryRow>& rows,
+                                          double bin_width, std::vector<std::string>* warnings);
 // Writes DIR/push_survival.csv atomically when there are bins (else nothing); returns whether it
 // wrote.
 bool WritePushSurvivalCsv(const std::string& dir, const std::vector<SurvivalBin>& bins);
-// Both: ReadPushSurvival, then WritePushSurvivalCsv.
+// All three: DIR/summary.csv (InputError when missing or malformed), ReadPushSurvival, then
+// WritePushSurvivalCsv.
 std::vector<SurvivalBin> WritePushSurvival(const std::string& dir, double bin_width,
                                            std::vector<std::string>* warnings);
 

@@ -229,7 +229,7 @@ std::string WriteSuiteReport(const std::string& dir, const SuiteReportOptions& o
   }
   // Survival against push impulse of the pushed families, from every member's meta.csv.
   const std::vector<SurvivalBin> survival =
-      ReadPushSurvival(dir, options.survival_bin_n_s, warnings);
+      ReadPushSurvival(dir, rows, options.survival_bin_n_s, warnings);
 
   // Which scenarios get their figures, steps and replays: all but the family members beyond the
   // first options.family_details of their family. The others' run files are not read.
