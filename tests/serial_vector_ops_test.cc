@@ -102,8 +102,8 @@ TEST_P(SerialVectorOpsTest, ScaleConstAndNormsMatch) {
 TEST_P(SerialVectorOpsTest, LinearCombinationMatchesEveryCountAndAliasing) {
   for (int nvec = 1; nvec <= 7; ++nvec) {
     for (double c0 : {1.0, -1.0, 0.5, 2.0}) {
-      // 0: z separate; 1: z is X[0].
-      for (int alias = 0; alias < 2; ++alias) {
+      // 0: z separate; 1: z is X[0]; 2: z is the last X (read after being written).
+      for (int alias = 0; alias < (nvec > 1 ? 3 : 2); ++alias) {
         std::vector<double> c = Coefficients();
         c.resize(static_cast<size_t>(nvec));
         c[0] = c0;
@@ -112,8 +112,9 @@ TEST_P(SerialVectorOpsTest, LinearCombinationMatchesEveryCountAndAliasing) {
           X.push_back(Random());
           X2.push_back(Copy(X.back()));
         }
-        N_Vector z = alias ? X[0] : Random();
-        N_Vector z2 = alias ? X2[0] : Copy(z);
+        const size_t at = alias == 2 ? X.size() - 1 : 0;
+        N_Vector z = alias ? X[at] : Random();
+        N_Vector z2 = alias ? X2[at] : Copy(z);
         std::vector<double> c2 = c;
         ASSERT_EQ(N_VLinearCombination_Serial(nvec, c.data(), X.data(), z), 0);
         ASSERT_EQ(serial_ops::LinearCombination(nvec, c2.data(), X2.data(), z2), 0);

@@ -18,6 +18,30 @@ void AddRest(int nvec, const realtype* c, N_Vector* X, sunindextype n, realtype*
   }
 }
 
+// The same sums for the simulator's state length, kept in registers: z is read (when it is X[0])
+// and written once instead of once per term. Only when no X_k (k >= 1) is z, whose elements the
+// loop above would read after writing them.
+constexpr sunindextype kStateLength = 14;
+void LinearCombinationInRegisters(int nvec, const realtype* c, N_Vector* X, realtype* zd,
+                                  bool z_is_x0) {
+  realtype acc[kStateLength];
+  const realtype* x0 = Data(X[0]);
+  const realtype c0 = c[0];
+  if (!z_is_x0) {
+    for (sunindextype i = 0; i < kStateLength; ++i) acc[i] = c0 * x0[i];
+  } else if (c0 != 1.0) {
+    for (sunindextype i = 0; i < kStateLength; ++i) acc[i] = x0[i] * c0;
+  } else {
+    for (sunindextype i = 0; i < kStateLength; ++i) acc[i] = x0[i];
+  }
+  for (int k = 1; k < nvec; ++k) {
+    const realtype* xd = Data(X[k]);
+    const realtype ck = c[k];
+    for (sunindextype i = 0; i < kStateLength; ++i) acc[i] += ck * xd[i];
+  }
+  for (sunindextype i = 0; i < kStateLength; ++i) zd[i] = acc[i];
+}
+
 }  // namespace
 
 // Each case below is one of the serial module's, taken in its order: the cases round differently
@@ -125,6 +149,14 @@ int LinearCombination(int nvec, realtype* c, N_Vector* X, N_Vector z) {
   }
   const sunindextype n = Length(z);
   realtype* zd = Data(z);
+  if (n == kStateLength) {
+    bool z_in_rest = false;
+    for (int k = 1; k < nvec; ++k) z_in_rest |= X[k] == z;
+    if (!z_in_rest) {
+      LinearCombinationInRegisters(nvec, c, X, zd, X[0] == z);
+      return 0;
+    }
+  }
   if (X[0] == z) {  // z = c_0 z + sum c_k X_k, k >= 1 (no scaling when c_0 is 1)
     const realtype c0 = c[0];
     if (c0 != 1.0) {
