@@ -5,9 +5,10 @@
 # the suite at the defaults and with a tight reference (rtol 1e-9, atol 1e-11): CPU time,
 # how many runs changed outcome or pass, and the largest change of a run's distance and mean
 # L_step (m). A setting may name the ARKODE method's order too (RTOL:ATOL:ORDER; without one,
-# the default order, 4).
+# the default order, 4). A setting fixed:STEP[:ORDER] takes fixed steps of STEP s instead
+# ([simulation] fixed_step; at order 4 the classic Runge-Kutta method).
 #
-#   bash bench/walk_tolerance.sh [BUILD_DIR] ["RTOL:ATOL[:ORDER] ..."]
+#   bash bench/walk_tolerance.sh [BUILD_DIR] ["RTOL:ATOL[:ORDER] fixed:STEP[:ORDER] ..."]
 set -euo pipefail
 
 build=${1:-build}
@@ -28,7 +29,8 @@ path, rtol, atol, order = sys.argv[1:]
 text = open(path).read()
 key = "[defaults.simulation]\n"
 extra = f"order = {order}\n" if order != "0" else ""
-text = text.replace(key, key + f"rtol = {rtol}\natol = {atol}\n" + extra, 1)
+setting = f"fixed_step = {atol}\n" if rtol == "fixed" else f"rtol = {rtol}\natol = {atol}\n"
+text = text.replace(key, key + setting + extra, 1)
 open(path, "w").write(text)
 EOF
   fi

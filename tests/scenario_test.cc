@@ -122,6 +122,14 @@ target_deg = [180, 0, 0, 0]
   EXPECT_DOUBLE_EQ(s.model.trunk_mass, 12.0);
 }
 
+TEST_F(ScenarioFileTest, FixedStepIsOptIn) {
+  EXPECT_EQ(LoadScenario(Write("default.toml", kMinimal)).options.integrator.fixed_step, 0.0);
+  const Scenario s = LoadScenario(
+      Write("fixed.toml", "[simulation]\nduration = 1.0\nfixed_step = 5e-4\n[initial]\ny = 0.9\n"));
+  EXPECT_EQ(s.options.integrator.fixed_step, 5e-4);
+  EXPECT_EQ(s.options.integrator.kind, IntegratorKind::kArkodeErk);
+}
+
 TEST_F(ScenarioFileTest, FootClearancePlacesLowestFoot) {
   const Scenario s = LoadScenario(Write("ok.toml", R"(
 [simulation]
@@ -345,6 +353,11 @@ TEST_F(ScenarioFileTest, ImpossibleStatesAndSettingsAreRefused) {
               "simulation.record_every", "[1, 1000000]");
   ExpectError("[simulation]\nduration = 1\nintegrator = \"cvode\"\norder = 7\n[initial]\ny = 1\n",
               0, "simulation", "1..5");
+  ExpectError("[simulation]\nduration = 1\nfixed_step = -0.001\n[initial]\ny = 1\n", 0,
+              "simulation", "fixed_step must be in [0, 1] s");
+  ExpectError(
+      "[simulation]\nduration = 1\nintegrator = \"cvode\"\nfixed_step = 0.001\n[initial]\ny = 1\n", 0,
+      "simulation", "fixed_step needs the arkode integrator");
   ExpectError("[simulation]\nduration = 1\nrecord_every = 4294967296\n[initial]\ny = 1\n", 3,
               "simulation.record_every", "integer in");
   ExpectError(std::string("name = \"../escape\"\n") + kMinimal, 1, "name", "letters");

@@ -142,6 +142,7 @@ void ReadSimulation(TomlReader t, Scenario* s) {
   o.integrator.atol = t.Double("atol", o.integrator.atol);
   o.integrator.max_step = t.Double("max_step", o.integrator.max_step);
   o.integrator.order = static_cast<int>(t.Integer("order", o.integrator.order, 0, 12));
+  o.integrator.fixed_step = t.Double("fixed_step", o.integrator.fixed_step);
   o.contact = t.Bool("contact", o.contact);
   o.restart_at_samples = t.Bool("restart_at_samples", o.restart_at_samples);
   // 0 (record nothing) is for internal runs only: distance, speed and cost of transport come from

@@ -63,6 +63,14 @@ bool IntegratorOptions::IsValid(std::string* error) const {
              std::to_string(max_order) + " for " + IntegratorName(kind);
     return false;
   }
+  if (!(std::isfinite(fixed_step) && fixed_step >= 0.0 && fixed_step <= 1.0)) {
+    *error = "fixed_step must be in [0, 1] s";
+    return false;
+  }
+  if (fixed_step > 0.0 && kind != IntegratorKind::kArkodeErk) {
+    *error = std::string("fixed_step needs the arkode integrator, not ") + IntegratorName(kind);
+    return false;
+  }
   if (max_steps_per_call <= 0) {
     *error = "max_steps_per_call must be > 0";
     return false;
@@ -73,6 +81,19 @@ bool IntegratorOptions::IsValid(std::string* error) const {
 namespace {
 
 constexpr int kDefaultErkOrder = 4;
+
+// The classic four-stage, fourth-order Runge-Kutta method (no embedding: fixed steps only), as
+// MuJoCo's RK4 integrator steps.
+ARKodeButcherTable ClassicRk4() {
+  const double c[4] = {0.0, 0.5, 0.5, 1.0};
+  const double A[16] = {0.0, 0.0, 0.0, 0.0,  //
+                        0.5, 0.0, 0.0, 0.0,  //
+                        0.0, 0.5, 0.0, 0.0,  //
+                        0.0, 0.0, 1.0, 0.0};
+  const double b[4] = {1.0 / 6.0, 1.0 / 3.0, 1.0 / 3.0, 1.0 / 6.0};
+  return ARKodeButcherTable_Create(4, 4, 0, const_cast<double*>(c), const_cast<double*>(A),
+                                   const_cast<double*>(b), nullptr);
+}
 
 // Owns the SUNDIALS context and vector shared by both integrators, and adapts the callbacks.
 class SundialsBase : public OdeIntegrator {
@@ -237,7 +258,19 @@ class ArkodeErkIntegrator final : public SundialsBase {
     rtol_ = o.rtol;
     atol_ = o.atol;
     Check(ERKStepWFtolerances(mem_, ErrorWeights), "ERKStepWFtolerances");
-    Check(ERKStepSetOrder(mem_, o.order > 0 ? o.order : kDefaultErkOrder), "ERKStepSetOrder");
+    const int order = o.order > 0 ? o.order : kDefaultErkOrder;
+    if (o.fixed_step > 0.0) {
+      Check(ERKStepSetFixedStep(mem_, o.fixed_step), "ERKStepSetFixedStep");
+    }
+    if (o.fixed_step > 0.0 && order == 4) {
+      ARKodeButcherTable table = ClassicRk4();
+      if (table == nullptr) throw std::runtime_error("ARKodeButcherTable_Create failed");
+      const int flag = ERKStepSetTable(mem_, table);  // copies the table
+      ARKodeButcherTable_Free(table);
+      Check(flag, "ERKStepSetTable");
+    } else {
+      Check(ERKStepSetOrder(mem_, order), "ERKStepSetOrder");
+    }
     Check(ERKStepSetMaxNumSteps(mem_, o.max_steps_per_call), "ERKStepSetMaxNumSteps");
     if (o.max_step > 0.0) Check(ERKStepSetMaxStep(mem_, o.max_step), "ERKStepSetMaxStep");
     if (num_roots > 0) {

@@ -5,7 +5,9 @@
 //                linear solver);
 //   kArkodeErk   ARKODE ERKStep, adaptive explicit Runge-Kutta of the given order (ARKODE's
 //                default table for it: 2 Heun-Euler, 3 Bogacki-Shampine, 4 Zonneveld,
-//                5 Cash-Karp, ...).
+//                5 Cash-Karp, ...); or, with a fixed step, no error control: the classic
+//                four-stage Runge-Kutta method at order 4 (0), ARKODE's default table of any
+//                other order.
 // Guards are oriented so that every event is a guard turning from positive to negative.
 #ifndef RABBIT_SIM_INTEGRATOR_H_
 #define RABBIT_SIM_INTEGRATOR_H_
@@ -30,6 +32,9 @@ struct IntegratorOptions {
   // ARKODE: the method's order (2..8). CVODE: the maximum order (BDF 1..5, Adams 1..12). 0 = the
   // default (ARKODE 4, CVODE its own maximum).
   int order = 0;
+  // ARKODE only: > 0 steps at this size (s) without error control, rtol and atol unused (the last
+  // step before a stop or an event is shortened to land on it); 0 = adaptive steps.
+  double fixed_step = 0.0;
   bool IsValid(std::string* error) const;
 };
 
