@@ -334,7 +334,9 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
     obs.q = s.q;
     obs.qd = s.qd;
     obs.terrain = &terrain;
-    ComputeAbsoluteDynamics(model, s.q, s.qd, &sample_data);
+    // The link angles for the feet and the pose; the mass matrix only for a recorded sample's
+    // kinetic energy (the right-hand side forms its own).
+    ComputeLinkAngles(model, s.q, s.qd, &sample_data);
     ComputeFootKinematics(model, s.q, s.qd, &sample_data);
     bool alive = true;
     if (k > 0 && opt.contact) {
@@ -388,6 +390,7 @@ SimResult Simulate(const SimSetup& setup, const Vec7& q0, const Vec7& qd0, Contr
     const bool record = opt.record_every > 0 &&
                         (k % opt.record_every == 0 || !alive || reached || k == num_periods);
     if (record) {
+      ComputeAbsoluteDynamics(model, s.q, s.qd, &sample_data);
       s.kinetic = KineticEnergy(model, s.qd, sample_data);
       s.potential = PotentialEnergy(model, s.q, sample_data);
       s.elastic = 0.0;
