@@ -5,9 +5,9 @@
 //                linear solver);
 //   kArkodeErk   ARKODE ERKStep, adaptive explicit Runge-Kutta of the given order (ARKODE's
 //                default table for it: 2 Heun-Euler, 3 Bogacki-Shampine, 4 Zonneveld,
-//                5 Cash-Karp, ...); or, with a fixed step, no error control: the classic
-//                four-stage Runge-Kutta method at order 4 (0), ARKODE's default table of any
-//                other order.
+//                5 Cash-Karp, ...); or, with a fixed step and no error control, the classic
+//                four-stage Runge-Kutta method at order 4 (and 0, the default order), ARKODE's
+//                default table at any other order.
 // Guards are oriented so that every event is a guard turning from positive to negative.
 #ifndef RABBIT_SIM_INTEGRATOR_H_
 #define RABBIT_SIM_INTEGRATOR_H_
