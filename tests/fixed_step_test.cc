@@ -56,8 +56,10 @@ SimResult Swing(const Model& model, double duration, double fixed_step) {
 }
 
 TEST_P(FixedStepTest, ContactFreeSwingFollowsTheTightReference) {
-  // Acceptance: the contact-free swing within 1e-6 rad of an accurate solution over 1 s (the
-  // classic method's own error: seen 3.4e-10 rad at 1 ms, 4e-11 rad at 0.5 ms).
+  // Acceptance: the contact-free swing within 1e-6 rad of an accurate solution over 1 s (seen
+  // 4e-13 and 1.4e-12 rad at 1 and 0.5 ms: the reference's own error; the classic method's at 1 ms
+  // is 1.4e-12, and was 2.2e-10 before ARKODE was kept from taking the method as
+  // first-same-as-last, integrator.cc).
   const Model model{ModelParams{}};
   const SimResult fixed = Swing(model, 1.0, GetParam());
   const SimResult reference = Swing(model, 1.0, 0.0);
@@ -161,9 +163,38 @@ INSTANTIATE_TEST_SUITE_P(Steps, FixedStepTest, ::testing::Values(1e-3, 5e-4),
                            return step.param == 1e-3 ? "Rk4At1ms" : "Rk4At0_5ms";
                          });
 
+// The fixed step at order 4 is the classic method, step for step: a hand-written classic
+// Runge-Kutta on the same dynamics ends the swing at the same state to rounding (seen 9e-15 rad).
+// SUNDIALS 6.4 takes the classic table, whose last node is 1, for first-same-as-last and would end
+// 2.2e-10 rad away (integrator.cc, AvoidFalseFsal).
+TEST(FixedStepOrdersTest, Order4IsTheClassicMethodStepForStep) {
+  const Model model{ModelParams{}};
+  Vec7 q, qd;
+  SwingState(&q, &qd);
+  using State = Eigen::Matrix<double, 14, 1>;
+  Data data;
+  auto f = [&](const State& y) {
+    ForwardDynamics(model, y.head<7>(), y.tail<7>(), Vec7::Zero(), &data);
+    State dy;
+    dy << y.tail<7>(), data.qdd;
+    return dy;
+  };
+  const double h = 1e-3;
+  State y;
+  y << q, qd;
+  for (int k = 0; k < 1000; ++k) {
+    const State k1 = f(y), k2 = f(y + 0.5 * h * k1), k3 = f(y + 0.5 * h * k2), k4 = f(y + h * k3);
+    y += h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4);
+  }
+  const SimResult r = Swing(model, 1.0, h);
+  ASSERT_EQ(r.outcome, Outcome::kCompleted) << r.reason;
+  EXPECT_LT((r.samples.back().q - y.head<7>()).cwiseAbs().maxCoeff(), 1e-12);
+  EXPECT_LT((r.samples.back().qd - y.tail<7>()).cwiseAbs().maxCoeff(), 1e-10);
+}
+
 // At another order the fixed step takes ARKODE's default table of that order: one step per
 // period at 1 ms, its error on the swing as its order gives it (seen 1.8e-9 rad at order 3,
-// Bogacki-Shampine; 1.5e-12 at order 5, Cash-Karp; 3.4e-10 for the classic method at order 4).
+// Bogacki-Shampine; 1.5e-12 at order 5, Cash-Karp).
 TEST(FixedStepOrdersTest, OtherOrdersTakeTheirDefaultTableAtTheFixedStep) {
   const Model model{ModelParams{}};
   const SimResult reference = Swing(model, 1.0, 0.0);

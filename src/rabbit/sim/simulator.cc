@@ -125,6 +125,8 @@ struct RunContext {
   }
 };
 
+// Does not depend on t (the torques and pushes are held over the period): the fixed step's
+// Butcher tables rely on it (integrator.cc, AvoidFalseFsal).
 int Rhs(double /*t*/, const double* y, double* ydot, void* user) {
   auto* c = static_cast<RunContext*>(user);
   const Model& model = *c->setup->model;
