@@ -22,6 +22,18 @@ bool VelocityControlParams::IsValid(std::string* error) const {
     *error = "velocity_control.feedforward_gain must be in [0, 2]";
     return false;
   }
+  if (!(std::isfinite(gait_shift_gain) && gait_shift_gain >= 0.0 && gait_shift_gain <= 10.0)) {
+    *error = "velocity_control.gait_shift_gain must be in [0, 10] m/s per rad";
+    return false;
+  }
+  if (!(std::isfinite(gait_shift_max) && gait_shift_max >= 0.0 && gait_shift_max <= 0.5)) {
+    *error = "velocity_control.gait_shift_max must be in [0, 0.5] m/s";
+    return false;
+  }
+  if (!(std::isfinite(gait_shift_below) && gait_shift_below >= 0.0 && gait_shift_below <= 3.0)) {
+    *error = "velocity_control.gait_shift_below must be in [0, 3] m/s";
+    return false;
+  }
   return step_map.IsValid(error);
 }
 
@@ -123,7 +135,15 @@ double VelocityControl::Update(double v_m, double t_step, double extra) {
   if (have_error_) {
     dq0 += k_v_ * (p_.enabled ? last_v_m_ - v_m : error - last_error_) / t_step;
   }
-  q0_d_ = std::clamp(q0_d_ + dq0, q0_d_min_, q0_d_max_);
+  if (p_.gait_shift_gain > 0.0) {
+    // Split range: the effort below the q0_d floor shifts the gait pattern (FisOffset).
+    const double reach = v_c_ < p_.gait_shift_below ? p_.gait_shift_max / p_.gait_shift_gain : 0.0;
+    const double u = std::clamp(q0_d_ + excess_ + dq0, q0_d_min_ - reach, q0_d_max_);
+    q0_d_ = std::clamp(u, q0_d_min_, q0_d_max_);
+    excess_ = u - q0_d_;
+  } else {
+    q0_d_ = std::clamp(q0_d_ + dq0, q0_d_min_, q0_d_max_);
+  }
   last_error_ = error;
   last_v_m_ = v_m;
   have_error_ = true;

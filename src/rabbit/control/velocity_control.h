@@ -22,6 +22,16 @@
 // P is the gaits' map, or a map given as points (pitch_map), e.g. the pitches the walker itself
 // settles at (docs/design.md, "Velocity control").
 //
+// Gait shift (gait_shift_gain > 0; with the chapter's law): while the command V_c is below
+// gait_shift_below, the law above moves an effort u instead of q0_d, and q0_d = clamp(u,
+// q0_d_min, q0_d_max); u may go below the floor by at most gait_shift_max / gait_shift_gain, and
+// that part, u - q0_d (rad, <= 0), moves the gait pattern instead: the FIS's velocity input is
+// shifted by gait_shift_gain (u - q0_d) m/s. Split-range control: with the pitch at its floor and
+// the stride too fast, the blend moves toward the slowest gait; when the error turns, the shift
+// unwinds before the pitch leaves the floor. At the slow end the blend of the slowest gait (walked
+// by its rules) with the next (tracked) walks faster than either, at any pitch in the range
+// (docs/design.md, "Velocity control"). At or above gait_shift_below, u = q0_d (no shift).
+//
 // With law = kStepMap the feedback law above gives way to the identified step-to-step map
 // (step_map_control.h), which chooses q0_d at each update; the rate limit still applies.
 #ifndef RABBIT_CONTROL_VELOCITY_CONTROL_H_
@@ -49,6 +59,12 @@ struct VelocityControlParams {
   std::vector<std::pair<double, double>> pitch_map;
   // At the first update after the warm-up, q0_d starts at P(V_c) instead of the start gait's.
   bool start_at_map = true;
+  // Gait shift: m/s of the FIS's velocity input per rad of the law's pitch below the q0_d floor
+  // (0: off, the law as above bit for bit), the largest shift (m/s), and the command (m/s) from
+  // which on there is none.
+  double gait_shift_gain = 0.0;
+  double gait_shift_max = 0.1;
+  double gait_shift_below = 0.4;
   // law = "step_map": the step-to-step map chooses q0_d at each update instead of the law above
   // (the rate limit still applies when enabled; the feed-forward and start_at_map do not: the
   // map's q* takes their place).
@@ -90,9 +106,10 @@ class VelocityControl {
   double Update(double v_m, double t_step, double extra = 0.0);
   double q0_d() const { return q0_d_; }
   double command() const { return v_c_; }
-  // The step map's shift of the FIS's velocity input (m/s; 0 with the chapter's law).
+  // The shift of the FIS's velocity input (m/s): the step map's, or with the chapter's law the
+  // gait shift (0 when off).
   double FisOffset() const {
-    return p_.law == VelocityLaw::kStepMap ? step_map_.fis_offset() : 0.0;
+    return p_.law == VelocityLaw::kStepMap ? step_map_.fis_offset() : p_.gait_shift_gain * excess_;
   }
 
  private:
@@ -108,6 +125,7 @@ class VelocityControl {
   double last_v_m_ = 0.0;    // V_M at the previous update
   bool have_error_ = false;
   bool started_ = false;  // the first update has been made
+  double excess_ = 0.0;   // gait shift: the effort u below the q0_d floor, u - q0_d (rad, <= 0)
 };
 
 }  // namespace rabbit

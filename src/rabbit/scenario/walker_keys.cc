@@ -200,6 +200,18 @@ void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
     r.Fail("feedforward_gain", "must be in [0, 2]");
   }
   p->start_at_map = r.Bool("start_at_map", p->start_at_map);
+  p->gait_shift_gain = r.Double("gait_shift_gain", p->gait_shift_gain);
+  if (!(p->gait_shift_gain >= 0.0 && p->gait_shift_gain <= 10.0)) {
+    r.Fail("gait_shift_gain", "must be in [0, 10] m/s per rad");
+  }
+  p->gait_shift_max = r.Double("gait_shift_max", p->gait_shift_max);
+  if (!(p->gait_shift_max >= 0.0 && p->gait_shift_max <= 0.5)) {
+    r.Fail("gait_shift_max", "must be in [0, 0.5] m/s");
+  }
+  p->gait_shift_below = r.Double("gait_shift_below", p->gait_shift_below);
+  if (!(p->gait_shift_below >= 0.0 && p->gait_shift_below <= 3.0)) {
+    r.Fail("gait_shift_below", "must be in [0, 3] m/s");
+  }
   const std::string law = r.String("law", p->law == VelocityLaw::kStepMap ? "step_map" : "chapter");
   if (law != "chapter" && law != "step_map") r.Fail("law", "expected \"chapter\" or \"step_map\"");
   p->law = law == "step_map" ? VelocityLaw::kStepMap : VelocityLaw::kChapter;
