@@ -130,11 +130,11 @@ class FollowKeysTest : public ::testing::Test {
   std::filesystem::path dir_;
 };
 
-TEST_F(FollowKeysTest, ReadWithDefaultsOff) {
+TEST_F(FollowKeysTest, ReadWithPresetDefaults) {
   const StepPlannerParams d = LoadSuite(Write("")).scenarios[0].walker.planner;
   EXPECT_FALSE(d.follow_gait);
   EXPECT_TRUE(d.over_feedback);
-  EXPECT_EQ(d.hold_pitch_steps, 0);
+  EXPECT_EQ(d.hold_pitch_steps, 3);  // the adaptive preset's (walker_presets.cc)
   const StepPlannerParams r =
       LoadSuite(Write("follow_gait = true\nfollow_shorten = 0.08\nfollow_lengthen = 0.02\n"
                       "over_feedback = false\nhold_pitch_steps = 2\n"))

@@ -39,6 +39,10 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // Obstacles are approached at 0.7 m/s at least: 423 of the 640 training members against
       // 383 (docs/design.md, "The step planner").
       w.planner.approach_speed = 0.7;
+      // The velocity control leaves q0_d alone at the three touchdowns from the one that ends a
+      // step over: obstacle rows 10 -> 18 of 40 training members (docs/design.md, "The step
+      // planner").
+      w.planner.hold_pitch_steps = 3;
       w.slope.enabled = true;
       // The speed command moves with the grades ahead: up before and on an uphill, down before
       // and on a downhill (docs/design.md, "Slope adaptation"; neutral on flat ground).
