@@ -131,6 +131,7 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
       velocity_(std::move(velocity)),
       warmup_(params.warmup, stance_leg),
       recovery_(params.recovery),
+      response_(params.recovery),
       slope_(params.slope),
       stall_(params.stall_recovery),
       terrain_steps_(params.steps),
@@ -290,6 +291,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   // The known change of grade ahead: the profile's grade over the coming step (about as long as
   // this one, within a gait's range) less its grade between the feet.
   double grade_change = 0.0;
+  bool level = std::abs(slope_.slope()) < 0.02;  // level ground, for the push response
   if (obs.terrain != nullptr && std::abs(landing.x() - other_foot.x()) >= 0.01) {
     const double ahead = GradeAhead(obs.terrain->ground, landing.x(),
                                     landing.x() + std::clamp(step.l_step, 0.15, 0.6));
@@ -297,6 +299,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
         GradeAhead(obs.terrain->ground, std::min(landing.x(), other_foot.x()),
                    std::max(landing.x(), other_foot.x()));
     grade_change = ahead - between;
+    level = level && ahead == 0.0 && between == 0.0;
   }
   slope_.OnTouchdown(
       obs.terrain != nullptr ? terrain_steps_.LevelledLanding(*obs.terrain, landing, other_foot)
@@ -323,11 +326,13 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
           ? ApproachSpeed(p_.planner, obs.terrain->obstacles, std::min(landing.x(), other_foot.x()),
                           std::max(landing.x(), other_foot.x()), v_slope)
           : v_slope));
+  response_.Command(v_c, level);
   const bool hold_pitch = pitch_hold_left_ > 0;  // planner.hold_pitch_steps after a step over
   if (hold_pitch) --pitch_hold_left_;
   // Nor at the steps.hold_steps touchdowns from a step's crossing (its V_M is the climb's or the
   // drop's, not the gait's).
-  if (measured && !warming_up_ && !hold_pitch && !terrain_steps_.HoldsPitch()) {
+  if (measured && !warming_up_ && !hold_pitch && !terrain_steps_.HoldsPitch() &&
+      !response_.HoldsPitch()) {
     q0_d_ = speed_.Update(v_m_, step.t_step, slope_.OvershootCorrection(v_m_, v_c));
   }
   const double front = obs.foot_pos[step.leg].x();
@@ -337,8 +342,9 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     d_noise = p_.d_obs_noise * Gaussian();
     d_obs = std::clamp(d_obs + d_noise, 0.0, p_.d_obs_max);
   }
-  SetContext(v_m_ + p_.fis_v_lead * (v_c - v_m_) + slope_.FisVelocityOffset() + speed_.FisOffset(),
-             d_obs);
+  fis_v_ = v_m_ + p_.fis_v_lead * (v_c - v_m_) + slope_.FisVelocityOffset() + speed_.FisOffset();
+  fis_d_obs_ = d_obs;
+  SetContext(fis_v_ + response_.FisOffset(), d_obs);
   StepPlan plan;
   if (p_.planner.enabled && obs.terrain != nullptr) {
     // The planner sees beyond d_obs_max (its horizon), with the same perception noise.
@@ -349,6 +355,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
                                  p_.planner.margin_after, &face_length));
     plan = PlanNextStep(obs, step, front, std::max(0.0, ahead + d_noise));
   }
+  planned_ = plan.active || recovery_left_ > 0;
   // The foot lift is armed for the step over (the planner's, when it plans) and the trailing leg.
   lift_armed_ = plan.active ? plan.approach_steps == 0 : d_obs < p_.lift.d_obs;
   if (obs.terrain != nullptr) {
@@ -368,7 +375,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   record.q0_d = q0_d_;
   record.weights = pattern_->GaitWeights();
   record.activation = pattern_->RuleActivations();
-  record.warmup = warming_up_;
+  record.warmup = warming_up_ && rules_until_ < 0;  // the response's rules: steps of the walk
   steps_.push_back(std::move(record));
 }
 
@@ -500,15 +507,28 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     std::fill(rule_states_.begin(), rule_states_.end(), RuleState{});
     const int taken = static_cast<int>(meter_.steps().size());
     if (warming_up_ &&
-        (taken >= p_.warmup_steps ||
-         (taken > p_.warmup_handover_after &&
-          meter_.last_step().l_step < p_.warmup_handover_ratio * p_.warmup_l_step))) {
+        (rules_until_ >= 0
+             ? taken >= rules_until_
+             : (taken >= p_.warmup_steps ||
+                (taken > p_.warmup_handover_after &&
+                 meter_.last_step().l_step < p_.warmup_handover_ratio * p_.warmup_l_step)))) {
       warming_up_ = false;
+      rules_until_ = -1;
     }
+    response_.OnTouchdown(obs.t, meter_.last_step().t_step);
     OnTouchdown(obs);
     recovery_.OnTouchdown(obs.t, meter_.last_step().t_step);
   }
   recovery_.Observe(obs, stance_);
+  // The push response (push_response.h), armed in plain walking: the FIS's input, the rules.
+  if (response_.Observe(obs.t, recovery_.v_orb(), !warming_up_ && !planned_ && !lift_armed_)) {
+    SetContext(fis_v_ + response_.FisOffset(), fis_d_obs_);
+  }
+  if (!warming_up_ && response_.TakesRules()) {
+    warmup_.Restart(swing_start_, stance_);
+    warming_up_ = true;
+    rules_until_ = static_cast<int>(meter_.steps().size()) + p_.recovery.response_rules_steps;
+  }
   stall_.Observe(obs, !warming_up_);
   if (warming_up_) {
     const Vec4 tau = warmup_.Compute(obs);
@@ -543,7 +563,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     lift_delta_.setZero();
     lift_t_ = -1.0;
   }
-  ref[0] += recovery_.SwingOffset(obs.t);
+  ref[0] += recovery_.SwingOffset(obs.t) + response_.SwingOffset(obs.t);
   stall_.Apply(obs, stance_, &ref);
   Vec4 tau;
   double share = 0.0;
@@ -570,8 +590,9 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   }
   const double knee_ref = stall_.StanceKnee(obs.t) + terrain_steps_.StanceKnee(obs.t);
   tau[2 * st + 1] = knee_kp * (knee_ref - q[st_hip + 1]) - knee_kd * qd[st_hip + 1];
-  const double q0_d = q0_d_ + recovery_.TrunkOffset(obs.t) + slope_.TrunkOffset() +
-                      stall_.TrunkOffset(obs.t) + terrain_steps_.TrunkOffset();
+  const double q0_d = q0_d_ + recovery_.TrunkOffset(obs.t) + response_.TrunkOffset() +
+                      slope_.TrunkOffset() + stall_.TrunkOffset(obs.t) +
+                      terrain_steps_.TrunkOffset();
   tau[2 * st] = p_.trunk_kp * (q0_d - q[kQ0]) - p_.trunk_kd * qd[kQ0];
   if (!tau.allFinite()) tau.setZero();  // NaN measurements: no torque (the run reports the fall)
   if (p_.log_every > 0 && periods_ % p_.log_every == 0) {

@@ -32,6 +32,7 @@
 #include "rabbit/control/gait_meter.h"
 #include "rabbit/control/pragmatic_rules.h"
 #include "rabbit/control/push_recovery.h"
+#include "rabbit/control/push_response.h"
 #include "rabbit/control/slope_adaptation.h"
 #include "rabbit/control/stall_recovery.h"
 #include "rabbit/control/step_planner.h"
@@ -198,6 +199,10 @@ class FuzzyCmacWalker final : public Controller {
   GaitMeter meter_;
   PragmaticController warmup_;
   PushRecovery recovery_;
+  PushResponse response_;  // its response to a large disturbance (push_response.h)
+  double fis_v_ = 0.0, fis_d_obs_ = 0.0;  // the fuzzy system's inputs at the last touchdown
+  bool planned_ = false;                  // the planner set the coming step's weights
+  int rules_until_ = -1;  // the response's rules walk until this many steps (-1: not theirs)
   SlopeAdaptation slope_;
   StallRecovery stall_;
   TerrainSteps terrain_steps_;

@@ -55,6 +55,13 @@ bool PragmaticParams::IsValid(std::string* error) const {
 PragmaticController::PragmaticController(const PragmaticParams& params, int stance_leg)
     : p_(params), stance_(stance_leg) {}
 
+void PragmaticController::Restart(double swing_start, int stance_leg) {
+  meter_ = GaitMeter();
+  stance_ = stance_leg;
+  swing_start_ = swing_start;
+  hip_locked_ = knee_flexed_ = knee_locked_ = false;
+}
+
 Vec4 PragmaticController::Compute(const Observation& obs) {
   const int swing = 1 - stance_;
   if (meter_.Update(obs) && meter_.last_step().leg == swing) {

@@ -40,6 +40,9 @@ class PragmaticController final : public Controller {
   // stance_leg: the leg in support at t = 0 (0 or 1).
   PragmaticController(const PragmaticParams& params, int stance_leg);
   Vec4 Compute(const Observation& obs) override;
+  // Takes over a walk in progress: stance_leg in support, its swing phase begun at swing_start
+  // (the swing's rule state follows the measured swing from then on).
+  void Restart(double swing_start, int stance_leg);
   const GaitMeter& meter() const { return meter_; }
   int stance_leg() const { return stance_; }
 

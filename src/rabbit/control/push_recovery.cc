@@ -15,7 +15,16 @@ bool RecoveryParams::IsValid(std::string* error) const {
                                                     {"placement_full", placement_full},
                                                     {"placement_dead", placement_dead},
                                                     {"trunk_gain", trunk_gain},
-                                                    {"trunk_max", trunk_max}};
+                                                    {"trunk_max", trunk_max},
+                                                    {"response_dead", response_dead},
+                                                    {"response_fis_gain", response_fis_gain},
+                                                    {"response_fis_max", response_fis_max},
+                                                    {"response_fis_step", response_fis_step},
+                                                    {"response_rules_dead", response_rules_dead},
+                                                    {"response_place_gain", response_place_gain},
+                                                    {"response_place_max", response_place_max},
+                                                    {"response_place_back", response_place_back},
+                                                    {"response_trunk_max", response_trunk_max}};
   for (const auto& [name, value] : bounded) {
     if (!(std::isfinite(value) && value >= 0.0 && value <= 10.0)) {
       *error = std::string("recovery.") + name + " must be in [0, 10]";
@@ -28,6 +37,27 @@ bool RecoveryParams::IsValid(std::string* error) const {
   }
   if (placement_max > 1.0 || trunk_max > 1.0) {
     *error = "recovery.placement_max and trunk_max must be <= 1 rad";
+    return false;
+  }
+  if (response_dead > 2.0 || response_fis_max > 2.0 || response_fis_step > 2.0 ||
+      response_rules_dead > 2.0) {
+    *error =
+        "recovery.response_dead, response_fis_max, response_fis_step and "
+        "response_rules_dead must be <= 2 m/s";
+    return false;
+  }
+  if (response_hold_steps < 0 || response_hold_steps > 100 || response_fis_steps < 0 ||
+      response_fis_steps > 100 || response_rules_steps < 0 || response_rules_steps > 100) {
+    *error =
+        "recovery.response_hold_steps, response_fis_steps and response_rules_steps must be in "
+        "[0, 100]";
+    return false;
+  }
+  if (!(std::isfinite(response_trunk_gain) && std::abs(response_trunk_gain) <= 10.0) ||
+      response_place_max > 1.0 || response_place_back > 1.0 || response_trunk_max > 1.0) {
+    *error =
+        "recovery.response_trunk_gain must be in [-10, 10], response_place_max, "
+        "response_place_back and response_trunk_max <= 1";
     return false;
   }
   if (nominal_steps < 1 || nominal_steps > 100) {

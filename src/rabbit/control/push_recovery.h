@@ -52,6 +52,27 @@ struct RecoveryParams {
   double trunk_gain = 0.0;
   double trunk_max = 0.2;
   int nominal_steps = 4;  // undisturbed steps averaged into v_nom
+  // The response to a large disturbance (push_response.h): its dead zone on v_orb less its
+  // reference (m/s; 0: off), the share of that speed added to the fuzzy system's velocity input
+  // and its bound (m/s), the change of it that moves the input again within a step (m/s), the
+  // touchdowns at which q0_d is held from the end of a disturbed step (0: none).
+  double response_dead = 0.0;
+  double response_fis_gain = 0.0;
+  double response_fis_max = 0.5;
+  double response_fis_step = 0.05;
+  int response_fis_steps = 1;  // disturbed steps in a row whose gait pattern follows
+  int response_hold_steps = 0;
+  // Backward disturbance (m/s, below -response_rules_dead) that hands the walk to the start
+  // gait's rules for response_rules_steps steps (0: never).
+  double response_rules_dead = 0.6;
+  // Swing placement (rad of swing thigh per m/s of the disturbance past the dead zone, and its
+  // bound) and trunk lean (rad of q0_d per m/s, signed, and its bound) while disturbed.
+  double response_place_gain = 0.0;
+  double response_place_max = 0.35;
+  double response_place_back = 1.0;  // share of the placement after a backward disturbance
+  double response_trunk_gain = 0.0;
+  double response_trunk_max = 0.2;
+  int response_rules_steps = 0;
   double gravity = 9.81;  // m/s^2, for the pendulum's omega^2 = g / y_hip
   bool IsValid(std::string* error) const;
 };

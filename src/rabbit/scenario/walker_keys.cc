@@ -183,6 +183,30 @@ void ReadRecovery(TomlReader r, RecoveryParams* p) {
   p->trunk_gain = nonnegative("trunk_gain", p->trunk_gain, 10.0, "[0, 10] rad s/m");
   p->trunk_max = nonnegative("trunk_max", p->trunk_max, 1.0, "[0, 1] rad");
   p->nominal_steps = static_cast<int>(r.Integer("nominal_steps", p->nominal_steps, 1, 100));
+  p->response_dead = nonnegative("response_dead", p->response_dead, 2.0, "[0, 2] m/s");
+  p->response_fis_gain = nonnegative("response_fis_gain", p->response_fis_gain, 10.0, "[0, 10]");
+  p->response_fis_max = nonnegative("response_fis_max", p->response_fis_max, 2.0, "[0, 2] m/s");
+  p->response_fis_step = nonnegative("response_fis_step", p->response_fis_step, 2.0, "[0, 2] m/s");
+  p->response_fis_steps =
+      static_cast<int>(r.Integer("response_fis_steps", p->response_fis_steps, 0, 100));
+  p->response_hold_steps =
+      static_cast<int>(r.Integer("response_hold_steps", p->response_hold_steps, 0, 100));
+  p->response_rules_dead =
+      nonnegative("response_rules_dead", p->response_rules_dead, 2.0, "[0, 2] m/s");
+  p->response_rules_steps =
+      static_cast<int>(r.Integer("response_rules_steps", p->response_rules_steps, 0, 100));
+  p->response_place_gain =
+      nonnegative("response_place_gain", p->response_place_gain, 10.0, "[0, 10] rad s/m");
+  p->response_place_max =
+      nonnegative("response_place_max", p->response_place_max, 1.0, "[0, 1] rad");
+  p->response_place_back =
+      nonnegative("response_place_back", p->response_place_back, 1.0, "[0, 1]");
+  p->response_trunk_gain = r.Double("response_trunk_gain", p->response_trunk_gain);
+  if (!(std::abs(p->response_trunk_gain) <= 10.0)) {
+    r.Fail("response_trunk_gain", "must be in [-10, 10] rad s/m");
+  }
+  p->response_trunk_max =
+      nonnegative("response_trunk_max", p->response_trunk_max, 1.0, "[0, 1] rad");
   p->gravity = r.Double("gravity", p->gravity);
   if (!(p->gravity > 0.0 && p->gravity <= 100.0)) r.Fail("gravity", "must be in (0, 100] m/s^2");
   r.Finish();

@@ -1,0 +1,141 @@
+#include "rabbit/control/push_response.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace rabbit {
+
+int PushResponse::Bin(double t) const {
+  if (t_touchdown_ < 0.0 || !(t_ref_step_[leg_] > 0.0)) return -1;
+  const double s = (t - t_touchdown_) / t_ref_step_[leg_];
+  if (!(s >= 0.0)) return -1;
+  const int bin = static_cast<int>(s / 1.5 * kPhaseBins);
+  return bin < kPhaseBins ? bin : -1;
+}
+
+double PushResponse::Clamp(double v) const {
+  return std::clamp(v, -p_.response_fis_max, p_.response_fis_max);
+}
+
+double PushResponse::Excess() const {
+  const double excess = std::abs(d_) - p_.response_dead;
+  return enabled() && armed_ && excess > 0.0 ? std::copysign(excess, d_) : 0.0;
+}
+
+double PushResponse::SwingOffset(double t) const {
+  if (p_.response_place_gain == 0.0 || !(t_ref_step_[leg_] > 0.0) || t_touchdown_ < 0.0) {
+    return 0.0;
+  }
+  const double dv = Excess() * (d_ < 0.0 ? p_.response_place_back : 1.0);
+  if (dv == 0.0) return 0.0;
+  const double fade =
+      PlacementFade((t - t_touchdown_) / t_ref_step_[leg_], p_.placement_start, p_.placement_full);
+  return fade *
+         std::clamp(p_.response_place_gain * dv, -p_.response_place_max, p_.response_place_max);
+}
+
+double PushResponse::TrunkOffset() const {
+  if (p_.response_trunk_gain == 0.0) return 0.0;
+  return std::clamp(p_.response_trunk_gain * Excess(), -p_.response_trunk_max,
+                    p_.response_trunk_max);
+}
+
+void PushResponse::Command(double v_c, bool level) {
+  steady_ = v_c == v_c_ && level ? steady_ + 1 : 0;
+  v_c_ = v_c;
+}
+
+bool PushResponse::Observe(double t, double v_orb, bool plain) {
+  if (!enabled()) return false;
+  const bool armed = plain && steady_ >= kSteadySteps;
+  if (armed != armed_) {
+    // The walk changes hands (the warm-up's end): the reference is learnt afresh.
+    armed_ = armed;
+    for (int leg = 0; leg < 2; ++leg) {
+      has_ref_[leg].fill(false);
+      has_prev_[leg].fill(false);
+    }
+    disturbed_run_ = 0;
+    fis_offset_ = 0.0;
+    d_ = 0.0;
+  }
+  if (!armed) return false;
+  const int bin = Bin(t);
+  if (bin < 0 || !std::isfinite(v_orb)) return false;
+  sum_[bin] += v_orb;
+  ++samples_[bin];
+  // A bin is compared with the reference's when it is complete: v_orb varies too much within a
+  // bin (impacts) for single samples.
+  const int done = bin_;
+  bin_ = bin;
+  if (done < kFirstBin || done > kLastBin || done == bin || samples_[done] == 0 ||
+      !has_ref_[leg_][done]) {
+    return false;
+  }
+  d_ = sum_[done] / samples_[done] - ref_[leg_][done];
+  if (std::abs(d_) <= p_.response_dead) return false;
+  step_disturbed_ = true;
+  dev_sum_ += d_;
+  ++dev_n_;
+  min_d_ = std::min(min_d_, d_);
+  // The gait pattern follows the disturbance in the first response_fis_steps disturbed steps.
+  if (p_.response_fis_gain == 0.0 || disturbed_run_ >= p_.response_fis_steps) return false;
+  const double offset = Clamp(p_.response_fis_gain * d_);
+  if (std::abs(offset - fis_offset_) < p_.response_fis_step) return false;
+  fis_offset_ = offset;
+  return true;
+}
+
+void PushResponse::OnTouchdown(double t, double t_step) {
+  if (!enabled()) return;
+  const bool disturbed = step_disturbed_;
+  disturbed_run_ = disturbed ? disturbed_run_ + 1 : 0;
+  // A step disturbed backward beyond response_rules_dead: the rules walk from this touchdown.
+  rules_pending_ = p_.response_rules_steps > 0 && min_d_ < -p_.response_rules_dead;
+  // The gait pattern's offset for the coming step: the mean disturbance of this step's disturbed
+  // bins, in the first response_fis_steps disturbed steps in a row.
+  fis_offset_ = disturbed && dev_n_ > 0 && disturbed_run_ <= p_.response_fis_steps
+                    ? Clamp(p_.response_fis_gain * dev_sum_ / dev_n_)
+                    : 0.0;
+  // The pitch is held at the response_hold_steps touchdowns from the end of a disturbed step.
+  if (disturbed) {
+    hold_ = p_.response_hold_steps > 0;
+    hold_left_ = std::max(p_.response_hold_steps - 1, 0);
+  } else {
+    hold_ = hold_left_ > 0;
+    if (hold_left_ > 0) --hold_left_;
+  }
+  // The reference: a step of plain walking whose v_orb agrees with the leg's step before it, bin
+  // by bin over the bins compared, within the dead zone (a settled walk, at whatever speed).
+  if (armed_ && t_touchdown_ >= 0.0 && t_step > 0.0) {
+    std::array<double, kPhaseBins> mean{};
+    int common = 0;
+    bool agrees = true;
+    for (int b = 0; b < kPhaseBins; ++b) {
+      if (samples_[b] == 0) continue;
+      mean[b] = sum_[b] / samples_[b];
+      if (!has_prev_[leg_][b] || b < kFirstBin || b > kLastBin) continue;
+      ++common;
+      if (std::abs(mean[b] - prev_[leg_][b]) > p_.response_dead) agrees = false;
+    }
+    if (agrees && common >= (kLastBin - kFirstBin) / 2) {
+      for (int b = 0; b < kPhaseBins; ++b) has_ref_[leg_][b] = samples_[b] > 0;
+      ref_[leg_] = mean;
+      disturbed_run_ = 0;
+    }
+    for (int b = 0; b < kPhaseBins; ++b) has_prev_[leg_][b] = samples_[b] > 0;
+    prev_[leg_] = mean;
+  }
+  leg_ = 1 - leg_;  // the coming step's
+  if (t_ref_step_[leg_] <= 0.0 && t_step > 0.0) t_ref_step_[leg_] = t_step;
+  sum_.fill(0.0);
+  samples_.fill(0);
+  step_disturbed_ = false;
+  min_d_ = 0.0;
+  dev_sum_ = 0.0;
+  dev_n_ = 0;
+  bin_ = -1;
+  t_touchdown_ = t;
+}
+
+}  // namespace rabbit

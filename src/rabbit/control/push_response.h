@@ -1,0 +1,133 @@
+// The walker's response to a large disturbance (beyond the chapter; keys response_* of
+// [controller.recovery], push_recovery.h). The gait pattern's step length follows the fuzzy
+// system's velocity input, which the walker gives the speed command V_c (fis_v_lead = 1), and the
+// velocity control reads a push's hurried or long steps as a gait that is too slow or too fast.
+// After a push both are wrong: the hip runs ahead of feet that keep the command's step, or the
+// trunk leans back after one long step until the robot walks backward. The response measures the
+// disturbance and, while it lasts:
+//
+//   disturbance   d = v_orb - v_ref(s): the pendulum's predicted hip speed (push_recovery.h) less
+//                 its value at the same phase s of the same leg's reference step (kPhaseBins over
+//                 s in [0, 1.5) of the leg's first step duration, one timebase for learning and
+//                 comparing). The reference is the leg's last step that agreed with the leg's
+//                 step before it, bin by bin, within response_dead: a settled walk at whatever
+//                 speed. d is evaluated as each bin of the step is complete (its mean), from
+//                 s = 0.2 to 1 (around the impacts v_orb depends too much on the step's timing),
+//                 and |d| > response_dead disturbs the step. The response is armed in plain
+//                 walking only: not in the warm-up, nor while the step planner or the foot lift
+//                 is at work (a step over is no push), nor until three touchdowns in a row have
+//                 had one speed command on level ground (Command: a change of command or of grade
+//                 moves v_orb as a push does); the reference is learnt afresh after;
+//   pitch         the velocity control leaves q0_d as it is at the response_hold_steps touchdowns
+//                 from the one that ends a disturbed step (the push's steps are no measure of the
+//                 gait's speed: it leaned the trunk back after one long step until the robot
+//                 walked backward, or forward after hurried short ones);
+//   placement     the swing thigh's reference moves by response_place_gain (|d| - response_dead)
+//                 sign(d), within +-response_place_max, faded in over the swing as the push
+//                 recovery's placement (placement_start, placement_full), times
+//                 response_place_back when d < 0 (Raibert: a faster hip, a longer step);
+//   rules         a step whose d fell below -response_rules_dead hands the walk, from the
+//                 touchdown that ends it, to the start gait's pragmatic rules (the warm-up's,
+//                 their swing starting there) for response_rules_steps steps: the rules'
+//                 fixed lock angle between the thighs walks out of a backward push that leaves
+//                 the gait pattern, a function of the stance thigh's angle, running in reverse;
+//   trunk         q0_d moves by response_trunk_gain (|d| - response_dead) sign(d) (within
+//                 +-response_trunk_max; measured, not used by the presets);
+//   gait pattern  the fuzzy system's velocity input moves by response_fis_gain d (within
+//                 +-response_fis_max): mid-step, as soon as |d| exceeds the dead zone and again
+//                 whenever d has moved by response_fis_step since, and at the touchdown after a
+//                 disturbed step by the gain times the mean d over its disturbed bins, in the
+//                 first response_fis_steps disturbed steps (measured, not used by the presets:
+//                 the faster gaits' rules add speed, and the offset feeds itself).
+//
+// With response_dead = 0 (the default) nothing changes.
+#ifndef RABBIT_CONTROL_PUSH_RESPONSE_H_
+#define RABBIT_CONTROL_PUSH_RESPONSE_H_
+
+#include <array>
+
+#include "rabbit/control/push_recovery.h"
+
+namespace rabbit {
+
+class PushResponse {
+ public:
+  explicit PushResponse(const RecoveryParams& params) : p_(params) {}
+
+  bool enabled() const { return p_.enabled && p_.response_dead > 0.0; }
+  // Every control period with the pendulum's hip speed v_orb (plain: the walker walks on its
+  // own, not in the warm-up, nor with the planner or the foot lift at work). Returns true when
+  // the fuzzy system's input should be moved now (FisOffset() has changed within the step).
+  bool Observe(double t, double v_orb, bool plain);
+  // At each touchdown, the speed command the walker acts on for the coming step and whether the
+  // ground is level (no grade measured or known ahead): the response is armed only after
+  // kSteadySteps touchdowns in a row with one command on level ground (a commanded change of
+  // speed or a change of grade changes v_orb as much as a push).
+  void Command(double v_c, bool level);
+  // At each support exchange, before the walker's own touchdown work (t_step: the finished
+  // step's duration, 0 if unknown).
+  void OnTouchdown(double t, double t_step);
+  // True once, at the touchdown that ends a step whose d fell below -response_rules_dead
+  // (response_rules_steps > 0): the walker hands the next steps to the start gait's rules.
+  bool TakesRules() {
+    const bool take = rules_pending_;
+    rules_pending_ = false;
+    return take;
+  }
+  // Offset (rad) of the swing thigh's reference: response_place_gain times d past the dead zone,
+  // faded in over the swing as the push recovery's placement (placement_start, placement_full).
+  double SwingOffset(double t) const;
+  // Offset (rad) of q0_d: response_trunk_gain times d past the dead zone (positive: the trunk
+  // pitches back after a backward push, whose hip torque drives the hip forward at once).
+  double TrunkOffset() const;
+  // Whether the velocity control leaves q0_d unchanged at this touchdown.
+  bool HoldsPitch() const { return hold_; }
+  // m/s to add to the fuzzy system's velocity input now.
+  double FisOffset() const { return fis_offset_; }
+  // The disturbance d of the last complete bin of this step (0: none yet, or off).
+  double disturbance() const { return d_; }
+  bool step_disturbed() const { return step_disturbed_; }
+
+  static constexpr int kPhaseBins = PushRecovery::kPhaseBins;
+  // The bins compared (s in [0.2, 1.0)): v_orb around the impacts depends too much on the
+  // step's timing.
+  static constexpr int kFirstBin = 2, kLastBin = 9;
+  static constexpr int kSteadySteps = 3;
+
+ private:
+  int Bin(double t) const;
+  double Excess() const;  // d past the dead zone (0 within it)
+  double Clamp(double v) const;
+
+  RecoveryParams p_;
+  // Per leg (the steps of the two legs differ by more than the dead zone in some gaits):
+  template <typename T>
+  using PerLeg = std::array<std::array<T, kPhaseBins>, 2>;
+  PerLeg<double> ref_{};                   // v_orb per phase bin of the reference step
+  PerLeg<bool> has_ref_{};                 // ... and whether the bin was sampled
+  PerLeg<double> prev_{};                  // v_orb per phase bin of the leg's last step ...
+  PerLeg<bool> has_prev_{};                // ... and whether the bin was sampled
+  int leg_ = 0;                            // the current step's leg (alternating at each touchdown)
+  std::array<double, kPhaseBins> sum_{};   // the current step's v_orb per bin ...
+  std::array<int, kPhaseBins> samples_{};  // ... and its samples
+  int bin_ = -1;                           // the bin of the last sample (-1: none in this step)
+  double t_touchdown_ = -1.0;
+  std::array<double, 2> t_ref_step_{};  // the reference steps' durations
+  double d_ = 0.0;
+  bool step_disturbed_ = false;
+  double dev_sum_ = 0.0;   // the current step's disturbed samples' d ...
+  int dev_n_ = 0;          // ... and their count
+  int disturbed_run_ = 0;  // disturbed steps since the reference
+  int hold_left_ = 0;
+  bool hold_ = false;
+  double fis_offset_ = 0.0;
+  bool armed_ = false;  // plain walking (Observe)
+  double v_c_ = -1.0;   // the last command (Command)
+  int steady_ = 0;      // touchdowns in a row with that command on level ground
+  bool rules_pending_ = false;
+  double min_d_ = 0.0;  // the current step's most negative d
+};
+
+}  // namespace rabbit
+
+#endif  // RABBIT_CONTROL_PUSH_RESPONSE_H_

@@ -1,0 +1,196 @@
+// The walker's response to a large disturbance (push_response.h): armed only in plain walking
+// after three touchdowns with one command on level ground, its reference learnt from two steps
+// that agree; a forward disturbance places the swing foot forward by the documented law and holds
+// the pitch, a backward one hands the walk to the rules at the touchdown and places nothing with
+// response_place_back = 0; off, nothing happens; and, on the full simulation, the default walker
+// is unchanged bit for bit on an undisturbed walk and walks through the forward push that stalls
+// it without the response.
+#include "rabbit/control/push_response.h"
+
+#include <gtest/gtest.h>
+
+#include <memory>
+#include <string>
+
+#include "rabbit/scenario/params.h"
+#include "rabbit/scenario/run.h"
+#include "rabbit/scenario/scenario.h"
+
+namespace rabbit {
+namespace {
+
+constexpr double kTolerance = 1e-12;
+const std::string kRoot = RABBIT_SOURCE_DIR;
+
+RecoveryParams Params() {
+  RecoveryParams p;
+  p.response_dead = 0.15;
+  p.response_hold_steps = 2;
+  p.response_rules_steps = 6;
+  p.response_rules_dead = 0.6;
+  p.response_place_gain = 0.3;
+  p.response_place_max = 0.35;
+  p.response_place_back = 0.0;
+  p.placement_start = 0.3;
+  p.placement_full = 0.7;
+  return p;
+}
+
+// One step of 0.5 s at 1 kHz from t0 with v_orb = v (the command 0.6 m/s on level ground).
+void Step(PushResponse* r, double t0, double v, bool plain = true) {
+  r->Command(0.6, true);
+  r->OnTouchdown(t0, 0.5);
+  for (int k = 0; k < 500; ++k) r->Observe(t0 + 1e-3 * k, v, plain);
+}
+
+// Eight undisturbed steps from t = 0 at 0.5 m/s: armed from the fourth touchdown, each leg's
+// reference learnt from its second step after that.
+void Walk(PushResponse* r) {
+  for (int n = 0; n < 8; ++n) Step(r, 0.5 * n, 0.5);
+}
+
+TEST(PushResponseTest, ForwardDisturbancePlacesTheFootAndHoldsThePitch) {
+  PushResponse r(Params());
+  Walk(&r);
+  EXPECT_FALSE(r.step_disturbed());
+  EXPECT_FALSE(r.HoldsPitch());
+  // The step from t = 4 is pushed to 0.8 m/s from s = 0.3: the bins from s = 0.3 on see
+  // d = 0.3, past the dead zone by 0.15.
+  r.Command(0.6, true);
+  r.OnTouchdown(4.0, 0.5);
+  for (int k = 0; k < 150; ++k) r.Observe(4.0 + 1e-3 * k, 0.5, true);
+  EXPECT_FALSE(r.step_disturbed());
+  EXPECT_EQ(r.SwingOffset(4.1), 0.0);
+  for (int k = 150; k < 400; ++k) r.Observe(4.0 + 1e-3 * k, 0.8, true);
+  EXPECT_TRUE(r.step_disturbed());
+  EXPECT_NEAR(r.disturbance(), 0.3, 1e-9);
+  // At s = 0.5 (fade 0.5): 0.5 * 0.3 * 0.15 rad; beyond s = 0.7 the whole 0.045 rad.
+  EXPECT_NEAR(r.SwingOffset(4.25), 0.5 * 0.3 * 0.15, 1e-9);
+  EXPECT_NEAR(r.SwingOffset(4.4), 0.3 * 0.15, 1e-9);
+  EXPECT_EQ(r.TrunkOffset(), 0.0);  // response_trunk_gain = 0
+  // The pitch is held at the two touchdowns from the disturbed step's end; no rules (forward).
+  r.Command(0.6, true);
+  r.OnTouchdown(4.5, 0.5);
+  EXPECT_TRUE(r.HoldsPitch());
+  EXPECT_FALSE(r.TakesRules());
+  for (int k = 0; k < 500; ++k) r.Observe(4.5 + 1e-3 * k, 0.5, true);
+  EXPECT_FALSE(r.step_disturbed());
+  r.Command(0.6, true);
+  r.OnTouchdown(5.0, 0.5);
+  EXPECT_TRUE(r.HoldsPitch());
+  for (int k = 0; k < 500; ++k) r.Observe(5.0 + 1e-3 * k, 0.5, true);
+  r.Command(0.6, true);
+  r.OnTouchdown(5.5, 0.5);
+  EXPECT_FALSE(r.HoldsPitch());
+}
+
+TEST(PushResponseTest, BackwardDisturbanceHandsTheWalkToTheRules) {
+  PushResponse r(Params());
+  Walk(&r);
+  // Slowed to -0.2 m/s: d = -0.7, beyond -response_rules_dead; no placement backward.
+  r.Command(0.6, true);
+  r.OnTouchdown(4.0, 0.5);
+  for (int k = 0; k < 450; ++k) r.Observe(4.0 + 1e-3 * k, k < 100 ? 0.5 : -0.2, true);
+  EXPECT_NEAR(r.disturbance(), -0.7, 1e-9);
+  EXPECT_EQ(r.SwingOffset(4.4), 0.0);
+  EXPECT_FALSE(r.TakesRules());  // at the touchdown, not within the step
+  r.Command(0.6, true);
+  r.OnTouchdown(4.5, 0.5);
+  EXPECT_TRUE(r.TakesRules());
+  EXPECT_FALSE(r.TakesRules());  // once
+  // With the whole placement backward too, the foot moves back: 0.3 (0.7 - 0.15) rad, and
+  // 0.35 rad at most.
+  RecoveryParams p = Params();
+  p.response_place_back = 1.0;
+  PushResponse back(p);
+  Walk(&back);
+  back.Command(0.6, true);
+  back.OnTouchdown(4.0, 0.5);
+  for (int k = 0; k < 450; ++k) back.Observe(4.0 + 1e-3 * k, k < 100 ? 0.5 : -0.2, true);
+  EXPECT_NEAR(back.SwingOffset(4.4), -0.3 * 0.55, 1e-9);
+  p.response_place_gain = 1.0;
+  PushResponse clamped(p);
+  Walk(&clamped);
+  clamped.Command(0.6, true);
+  clamped.OnTouchdown(4.0, 0.5);
+  for (int k = 0; k < 450; ++k) clamped.Observe(4.0 + 1e-3 * k, k < 100 ? 0.5 : -0.2, true);
+  EXPECT_NEAR(clamped.SwingOffset(4.4), -0.35, kTolerance);
+}
+
+TEST(PushResponseTest, NotArmedWhileTheCommandChangesOrOff) {
+  // The command changes at every touchdown: never armed, so no disturbance.
+  PushResponse r(Params());
+  for (int n = 0; n < 8; ++n) {
+    r.Command(0.4 + 0.05 * n, true);
+    r.OnTouchdown(0.5 * n, 0.5);
+    for (int k = 0; k < 500; ++k) r.Observe(0.5 * n + 1e-3 * k, n == 7 ? 1.5 : 0.5, true);
+  }
+  EXPECT_FALSE(r.step_disturbed());
+  EXPECT_EQ(r.SwingOffset(3.9), 0.0);
+  // Not plain walking (warm-up, planner, lift): nothing either.
+  PushResponse q(Params());
+  Walk(&q);
+  Step(&q, 4.0, 1.5, false);
+  EXPECT_FALSE(q.step_disturbed());
+  // response_dead = 0: off.
+  RecoveryParams p = Params();
+  p.response_dead = 0.0;
+  PushResponse off(p);
+  Walk(&off);
+  Step(&off, 4.0, 1.5);
+  EXPECT_FALSE(off.step_disturbed());
+  EXPECT_EQ(off.SwingOffset(4.4), 0.0);
+  EXPECT_FALSE(off.HoldsPitch());
+}
+
+TEST(PushResponseTest, InvalidParametersAreRefused) {
+  std::string error;
+  EXPECT_TRUE(Params().IsValid(&error)) << error;
+  RecoveryParams p = Params();
+  p.response_dead = 3.0;
+  EXPECT_FALSE(p.IsValid(&error));
+  p = Params();
+  p.response_place_back = 1.5;
+  EXPECT_FALSE(p.IsValid(&error));
+  p = Params();
+  p.response_rules_steps = -1;
+  EXPECT_FALSE(p.IsValid(&error));
+  p = Params();
+  p.response_trunk_gain = -20.0;
+  EXPECT_FALSE(p.IsValid(&error));
+}
+
+// The default walker with the response on and off on an undisturbed walk (push_forward.toml
+// without its push): the same run, bit for bit.
+TEST(PushResponseTest, NeutralOnAnUndisturbedWalk) {
+  Scenario s = LoadScenario(kRoot + "/scenarios/push_forward.toml");
+  ASSERT_GT(s.walker.recovery.response_dead, 0.0);  // on in the default (adaptive) preset
+  s.pushes.clear();
+  s.walker.log_every = 0;
+  const std::shared_ptr<const GaitLibrary> library = LoadGaitLibrary(s.pattern);
+  const RunOutput on = RunScenario(s, "fuzzy_cmac", library.get());
+  s.walker.recovery.response_dead = 0.0;
+  const RunOutput off = RunScenario(s, "fuzzy_cmac", library.get());
+  EXPECT_EQ(on.sim.outcome, off.sim.outcome);
+  EXPECT_EQ(on.metrics.steps, off.metrics.steps);
+  EXPECT_EQ(on.metrics.distance, off.metrics.distance);
+  EXPECT_EQ(on.metrics.energy, off.metrics.energy);
+}
+
+// push_forward.toml: the default walker without the response stalls after the push (one long
+// step, then the velocity control leans the trunk back until the robot walks backward); with it
+// the walk goes on.
+TEST(PushResponseTest, ForwardPushIsWalkedThrough) {
+  Scenario s = LoadScenario(kRoot + "/scenarios/push_forward.toml");
+  s.walker.log_every = 0;
+  const std::shared_ptr<const GaitLibrary> library = LoadGaitLibrary(s.pattern);
+  const RunOutput with = RunScenario(s, "fuzzy_cmac", library.get());
+  EXPECT_EQ(with.sim.outcome, Outcome::kCompleted) << with.sim.reason;
+  EXPECT_TRUE(with.passed) << (with.failures.empty() ? "" : with.failures[0]);
+  s.walker.recovery.response_dead = 0.0;
+  const RunOutput without = RunScenario(s, "fuzzy_cmac", library.get());
+  EXPECT_NE(without.sim.outcome, Outcome::kCompleted);
+}
+
+}  // namespace
+}  // namespace rabbit
