@@ -5,6 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
+#include "rabbit/control/terrain_command.h"
 #include "rabbit/learn/cmac.h"
 
 namespace rabbit {
@@ -288,23 +289,13 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   const bool measured = step.t_step > 0.0 && step.l_step > 0.0;
   const Vec2& other_foot = obs.foot_pos[1 - step.leg];
   const Vec2& landing = obs.foot_pos[step.leg];
-  // The known change of grade ahead: the profile's grade over the coming step (about as long as
-  // this one, within a gait's range) less its grade between the feet.
-  double grade_change = 0.0;
-  bool level = std::abs(slope_.slope()) < 0.02;  // level ground, for the push response
-  if (obs.terrain != nullptr && std::abs(landing.x() - other_foot.x()) >= 0.01) {
-    const double ahead = GradeAhead(obs.terrain->ground, landing.x(),
-                                    landing.x() + std::clamp(step.l_step, 0.15, 0.6));
-    const double between =
-        GradeAhead(obs.terrain->ground, std::min(landing.x(), other_foot.x()),
-                   std::max(landing.x(), other_foot.x()));
-    grade_change = ahead - between;
-    level = level && ahead == 0.0 && between == 0.0;
-  }
+  // The known change of grade ahead, and whether the ground around the feet is level.
+  const GradeView grade = GradeAround(obs.terrain, landing, other_foot, step.l_step);
+  const bool level = std::abs(slope_.slope()) < 0.02 && grade.level;  // for the push response
   slope_.OnTouchdown(
       obs.terrain != nullptr ? terrain_steps_.LevelledLanding(*obs.terrain, landing, other_foot)
                              : landing,
-      other_foot, grade_change);
+      other_foot, grade.change);
   if (obs.terrain != nullptr) {
     terrain_steps_.OnTouchdown(*obs.terrain, obs.t, obs.foot_pos[step.leg], other_foot);
   }
@@ -316,16 +307,10 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     for (size_t i = measured_.size() - n; i < measured_.size(); ++i) sum += measured_[i];
     v_m_ = sum / static_cast<double>(n);
   }
-  // The command the walker acts on (V_d itself unless velocity_control is enabled): moved by the
-  // slope adaptation for the grades ahead (V_d itself on flat ground), raised to the planner's
-  // approach speed near an obstacle; near a step, the step handling's approach speed instead.
-  const double v_slope =
-      obs.terrain != nullptr ? slope_.SpeedCommand(v_d, obs.terrain->ground, landing.x()) : v_d;
-  const double v_c = speed_.Command(terrain_steps_.SpeedCommand(
-      p_.planner.enabled && obs.terrain != nullptr
-          ? ApproachSpeed(p_.planner, obs.terrain->obstacles, std::min(landing.x(), other_foot.x()),
-                          std::max(landing.x(), other_foot.x()), v_slope)
-          : v_slope));
+  // The command the walker acts on (V_d itself unless velocity_control is enabled): the terrain's
+  // speed command (slope, obstacle and step approach speeds), rate-limited.
+  const double v_c = speed_.Command(
+      TerrainSpeedCommand(obs.terrain, slope_, p_.planner, terrain_steps_, v_d, landing, other_foot));
   response_.Command(v_c, level);
   const bool hold_pitch = pitch_hold_left_ > 0;  // planner.hold_pitch_steps after a step over
   if (hold_pitch) --pitch_hold_left_;
