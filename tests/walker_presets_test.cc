@@ -1,6 +1,6 @@
 // Walker presets: a scenario naming only the walker gets the adaptive preset; `preset = "chapter"`
 // and the baseline "chapter" read the scenario's keys over the chapter's settings; bad names are
-// refused naming the file and key.
+// refused naming the file and key; the adaptive walker leans back further for a step down.
 #include "rabbit/control/walker_presets.h"
 
 #include <gtest/gtest.h>
@@ -11,6 +11,7 @@
 #include <fstream>
 #include <string>
 
+#include "rabbit/control/terrain_steps.h"
 #include "rabbit/io/error.h"
 #include "rabbit/scenario/run.h"
 #include "rabbit/scenario/scenario.h"
@@ -82,12 +83,29 @@ TEST(WalkerPresets, TheChapterDiffersFromTheAdaptiveWalkerOnlyWhereDocumented) {
   EXPECT_TRUE(c.IsValid(&error)) << error;
 }
 
+TEST(WalkerPresets, TheAdaptiveWalkerLeansBackFurtherForAStepDown) {
+  const WalkerParams a = PresetWalkerParams(WalkerPreset::kAdaptive);
+  const WalkerParams c = PresetWalkerParams(WalkerPreset::kChapter);
+  EXPECT_EQ(a.steps.down_lean, -6.0);
+  EXPECT_EQ(c.steps.down_lean, TerrainStepParams().down_lean);  // the chapter's walker: unchanged
+  EXPECT_EQ(a.steps.up_lean, c.steps.up_lean);                  // a step up: as before
+  // A swing about to cross a 4 cm step down: q0_d moves back by 6 rad/m times the drop.
+  Terrain t;
+  t.ground = GroundProfile({{2.0, 0.0, -0.04}});
+  TerrainSteps steps(a.steps);
+  steps.OnTouchdown(t, 1.0, Vec2(1.8, 0.0), Vec2(1.45, 0.0));
+  EXPECT_NEAR(steps.TrunkOffset(), -6.0 * 0.04, 1e-12);
+}
+
 TEST_F(WalkerPresetsTest, OnlyTheTypeGivesTheAdaptiveWalker) {
   const Scenario s = LoadScenario(Write(""));
   EXPECT_EQ(s.preset, WalkerPreset::kAdaptive);
   EXPECT_TRUE(s.walker.planner.enabled);
   EXPECT_EQ(s.walker.fis_v_lead, 1.0);
   EXPECT_FALSE(s.walker.lift.keeps_rules);
+  EXPECT_EQ(s.walker.steps.down_lean, -6.0);
+  EXPECT_EQ(LoadScenario(Write("[controller.steps]\ndown_lean = -4.0\n")).walker.steps.down_lean,
+            -4.0);
 }
 
 TEST_F(WalkerPresetsTest, KeysAreReadOverThePreset) {
