@@ -323,7 +323,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
           ? ApproachSpeed(p_.planner, obs.terrain->obstacles, std::min(landing.x(), other_foot.x()),
                           std::max(landing.x(), other_foot.x()), v_slope)
           : v_slope),
-      v_m_);
+      v_m_, v_d);
   const bool hold_pitch = pitch_hold_left_ > 0;  // planner.hold_pitch_steps after a step over
   if (hold_pitch) --pitch_hold_left_;
   // Nor at the steps.hold_steps touchdowns from a step's crossing (its V_M is the climb's or the

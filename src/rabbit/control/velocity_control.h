@@ -32,8 +32,11 @@
 // by its rules) with the next (tracked) walks faster than either, at any pitch in the range
 // (docs/design.md, "Velocity control"). At or above gait_shift_below, u = q0_d (no shift).
 //
-// Drops (a command moving down; enabled only): v_d_rate_down (m/s per step, > 0) takes the place
-// of v_d_rate while V_c decreases; with drop_gap > 0, V_c does not go below V_M - drop_gap while it
+// Drops (enabled only; a drop starts at a touchdown where the speed profile has stepped down by
+// more than drop_min since the previous one, with V_d below V_c, and lasts until V_c has reached
+// V_d; a command lowered by the slope brake or after an obstacle's approach is no drop): v_d_rate_down (m/s per step, > 0) takes the place
+// of v_d_rate while V_c decreases from at most v_d_rate_down_below (above it, among the fast
+// rule-walked gaits, v_d_rate stays); with drop_gap > 0, V_c does not go below V_M - drop_gap while it
 // decreases (it waits for the measured stride, so that the pattern does not reach a gait far
 // slower than the robot); and for drop_no_raise touchdowns from the last decrease of V_c the law
 // may lower q0_d but not raise it (a stumble's slow stride in a drop is not answered by a lean
@@ -73,10 +76,12 @@ struct VelocityControlParams {
   double gait_shift_gain = 0.0;
   double gait_shift_max = 0.1;
   double gait_shift_below = 0.4;
-  // Drops: the rate while V_c decreases (0: v_d_rate), the largest gap below the measured stride
+  // Drops: the rate while V_c decreases (0: v_d_rate; v_d_rate 0 is no limit either way), the largest gap below the measured stride
   // V_M that a decreasing V_c may open (m/s, 0: off), and the touchdowns after a decrease of V_c
   // during which the law does not raise q0_d (0: off). All three off: the law as above bit for bit.
+  double drop_min = 0.0;  // m/s: a step down of the profile larger than this starts a drop
   double v_d_rate_down = 0.0;
+  double v_d_rate_down_below = 3.0;  // m/s: the V_c from which down v_d_rate_down applies
   double drop_gap = 0.0;
   int drop_no_raise = 0;
   // law = "step_map": the step-to-step map chooses q0_d at each update instead of the law above
@@ -112,8 +117,10 @@ class VelocityControl {
                   double q0_d_max, double q0_d_initial, PitchMap map);
   // At each touchdown, before Update: the command V_c for the coming step (V_d itself when not
   // enabled). The first call starts V_c at v_d. v_m: the measured stride (m/s; NaN: unknown), used
-  // by drop_gap.
-  double Command(double v_d, double v_m = std::numeric_limits<double>::quiet_NaN());
+  // by drop_gap; v_profile: the speed profile's V_d before the slope, obstacle and step handling
+  // moved it (NaN: v_d), whose steps down start a drop.
+  double Command(double v_d, double v_m = std::numeric_limits<double>::quiet_NaN(),
+                 double v_profile = std::numeric_limits<double>::quiet_NaN());
   // The law at a touchdown whose step was measured (V_M in m/s, t_step in s) outside the warm-up:
   // returns the new q0_d. `extra` (rad) joins the step's change of q0_d before the clamp (the
   // slope adaptation's braking); the first update with start_at_map sets q0_d = P(V_c) and
@@ -140,6 +147,8 @@ class VelocityControl {
   double last_v_m_ = 0.0;    // V_M at the previous update
   bool have_error_ = false;
   bool started_ = false;  // the first update has been made
+  bool dropping_ = false;  // a drop is under way
+  double last_source_ = 0.0;  // the profile's V_d at the previous call
   int since_drop_ = -1;   // touchdowns since V_c last decreased (-1: never)
   double excess_ = 0.0;   // gait shift: the effort u below the q0_d floor, u - q0_d (rad, <= 0)
 };
