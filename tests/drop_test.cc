@@ -78,7 +78,7 @@ TEST(DropTest, NoRaiseAfterADecrease) {
   VelocityControl c = Control(p);
   c.Command(0.6);
   EXPECT_NEAR(c.Update(0.6, 0.5), 0.0, kTolerance);
-  c.Command(0.4);  // the decrease
+  c.Command(0.4);                                    // the decrease
   EXPECT_NEAR(c.Update(0.3, 0.5), 0.0, kTolerance);  // too slow by 0.1: no raise
   c.Command(0.4);
   EXPECT_NEAR(c.Update(0.5, 0.5), -0.02, kTolerance);  // too fast: lowered

@@ -32,15 +32,16 @@
 // by its rules) with the next (tracked) walks faster than either, at any pitch in the range
 // (docs/design.md, "Velocity control"). At or above gait_shift_below, u = q0_d (no shift).
 //
-// Drops (enabled only; a drop starts at a touchdown where the speed profile has stepped down by
+// Drops (enabled only). A drop starts at a touchdown where the speed profile has stepped down by
 // more than drop_min since the previous one, with V_d below V_c, and lasts until V_c has reached
-// V_d; a command lowered by the slope brake or after an obstacle's approach is no drop): v_d_rate_down (m/s per step, > 0) takes the place
-// of v_d_rate while V_c decreases from at most v_d_rate_down_below (above it, among the fast
-// rule-walked gaits, v_d_rate stays); with drop_gap > 0, V_c does not go below V_M - drop_gap while it
-// decreases (it waits for the measured stride, so that the pattern does not reach a gait far
-// slower than the robot); and for drop_no_raise touchdowns from the last decrease of V_c the law
-// may lower q0_d but not raise it (a stumble's slow stride in a drop is not answered by a lean
-// forward that throws the robot past the new speed) (docs/design.md, "Velocity control").
+// V_d (a command lowered by the slope brake or for an obstacle's approach is no drop). In a drop,
+// v_d_rate_down (m/s per step, > 0) takes the place of v_d_rate where V_c is at most
+// v_d_rate_down_below (above it, among the fast rule-walked gaits, v_d_rate stays); with
+// drop_gap > 0, V_c does not go below V_M - drop_gap (it waits for the measured stride, so that
+// the pattern does not reach a gait far slower than the robot); and for drop_no_raise touchdowns
+// from each decrease of V_c the law may lower q0_d but not raise it (a stumble's slow stride is
+// not answered by a lean forward that throws the robot past the new speed) (docs/design.md,
+// "Velocity control").
 //
 // With law = kStepMap the feedback law above gives way to the identified step-to-step map
 // (step_map_control.h), which chooses q0_d at each update; the rate limit still applies.
@@ -76,9 +77,10 @@ struct VelocityControlParams {
   double gait_shift_gain = 0.0;
   double gait_shift_max = 0.1;
   double gait_shift_below = 0.4;
-  // Drops: the rate while V_c decreases (0: v_d_rate; v_d_rate 0 is no limit either way), the largest gap below the measured stride
-  // V_M that a decreasing V_c may open (m/s, 0: off), and the touchdowns after a decrease of V_c
-  // during which the law does not raise q0_d (0: off). All three off: the law as above bit for bit.
+  // Drops: the rate while V_c decreases (0: v_d_rate; v_d_rate 0 is no limit either way), the
+  // largest gap below the measured stride V_M that a decreasing V_c may open (m/s, 0: off), and the
+  // touchdowns after a decrease of V_c during which the law does not raise q0_d (0: off). All three
+  // off: the law as above bit for bit.
   double drop_min = 0.0;  // m/s: a step down of the profile larger than this starts a drop
   double v_d_rate_down = 0.0;
   double v_d_rate_down_below = 3.0;  // m/s: the V_c from which down v_d_rate_down applies
@@ -146,11 +148,11 @@ class VelocityControl {
   double last_error_ = 0.0;  // V_c - V_M at the previous update
   double last_v_m_ = 0.0;    // V_M at the previous update
   bool have_error_ = false;
-  bool started_ = false;  // the first update has been made
-  bool dropping_ = false;  // a drop is under way
+  bool started_ = false;      // the first update has been made
+  bool dropping_ = false;     // a drop is under way
   double last_source_ = 0.0;  // the profile's V_d at the previous call
-  int since_drop_ = -1;   // touchdowns since V_c last decreased (-1: never)
-  double excess_ = 0.0;   // gait shift: the effort u below the q0_d floor, u - q0_d (rad, <= 0)
+  int since_drop_ = -1;       // touchdowns since V_c last decreased (-1: never)
+  double excess_ = 0.0;       // gait shift: the effort u below the q0_d floor, u - q0_d (rad, <= 0)
 };
 
 }  // namespace rabbit
