@@ -79,8 +79,8 @@ struct VelocityControlParams {
   double gait_shift_below = 0.4;
   // Drops: the rate while V_c decreases (0: v_d_rate; v_d_rate 0 is no limit either way), the
   // largest gap below the measured stride V_M that a decreasing V_c may open (m/s, 0: off), and the
-  // touchdowns after a decrease of V_c during which the law does not raise q0_d (0: off). All three
-  // off: the law as above bit for bit.
+  // touchdowns after a decrease of V_c during which the law does not raise q0_d (0: off). All off
+  // (and v_d_rate_down_below at any value): the law as above bit for bit.
   double drop_min = 0.0;  // m/s: a step down of the profile larger than this starts a drop
   double v_d_rate_down = 0.0;
   double v_d_rate_down_below = 3.0;  // m/s: the V_c from which down v_d_rate_down applies
