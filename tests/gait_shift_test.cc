@@ -129,7 +129,7 @@ class GaitShiftKeysTest : public testing::WalkerKeysTest {
 
 TEST_F(GaitShiftKeysTest, ReadAndValidated) {
   const VelocityControlParams shipped = LoadSuite(Write("")).scenarios[0].walker.velocity_control;
-  EXPECT_DOUBLE_EQ(shipped.gait_shift_gain, 0.0);  // the adaptive preset leaves it off
+  EXPECT_DOUBLE_EQ(shipped.gait_shift_gain, 2.0);  // the adaptive preset turns it on
   const Suite suite =
       LoadSuite(Write("gait_shift_gain = 2.0\ngait_shift_max = 0.15\ngait_shift_below = 0.45\n"));
   const VelocityControlParams& v = suite.scenarios[0].walker.velocity_control;

@@ -308,9 +308,11 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     v_m_ = sum / static_cast<double>(n);
   }
   // The command the walker acts on (V_d itself unless velocity_control is enabled): the terrain's
-  // speed command (slope, obstacle and step approach speeds), rate-limited.
+  // speed command (slope, obstacle and step approach speeds), rate-limited; a step down of the
+  // profile's own V_d is a drop (velocity_control.h).
   const double v_c = speed_.Command(
-      TerrainSpeedCommand(obs.terrain, slope_, p_.planner, terrain_steps_, v_d, landing, other_foot));
+      TerrainSpeedCommand(obs.terrain, slope_, p_.planner, terrain_steps_, v_d, landing, other_foot),
+      v_m_, v_d);
   response_.Command(v_c, level);
   const bool hold_pitch = pitch_hold_left_ > 0;  // planner.hold_pitch_steps after a step over
   if (hold_pitch) --pitch_hold_left_;

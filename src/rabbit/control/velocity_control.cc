@@ -34,6 +34,27 @@ bool VelocityControlParams::IsValid(std::string* error) const {
     *error = "velocity_control.gait_shift_below must be in [0, 3] m/s";
     return false;
   }
+  if (!(std::isfinite(v_d_rate_down) && v_d_rate_down >= 0.0 && v_d_rate_down <= 3.0)) {
+    *error = "velocity_control.v_d_rate_down must be in [0, 3] m/s per step (0: v_d_rate)";
+    return false;
+  }
+  if (!(std::isfinite(v_d_rate_down_below) && v_d_rate_down_below >= 0.0 &&
+        v_d_rate_down_below <= 3.0)) {
+    *error = "velocity_control.v_d_rate_down_below must be in [0, 3] m/s";
+    return false;
+  }
+  if (!(std::isfinite(drop_min) && drop_min >= 0.0 && drop_min <= 3.0)) {
+    *error = "velocity_control.drop_min must be in [0, 3] m/s";
+    return false;
+  }
+  if (!(std::isfinite(drop_gap) && drop_gap >= 0.0 && drop_gap <= 3.0)) {
+    *error = "velocity_control.drop_gap must be in [0, 3] m/s";
+    return false;
+  }
+  if (!(drop_no_raise >= 0 && drop_no_raise <= 100)) {
+    *error = "velocity_control.drop_no_raise must be in [0, 100] touchdowns";
+    return false;
+  }
   return step_map.IsValid(error);
 }
 
@@ -97,14 +118,34 @@ VelocityControl::VelocityControl(const VelocityControlParams& params, double k_p
   if (!p_.IsValid(&error)) throw std::invalid_argument(error);
 }
 
-double VelocityControl::Command(double v_d) {
+double VelocityControl::Command(double v_d, double v_m, double v_profile) {
+  // The command's own profile (v_d when not given): a drop starts only where it steps down.
+  const double source = std::isfinite(v_profile) ? v_profile : v_d;
+  const bool stepped_down = have_command_ && source < last_source_ - p_.drop_min;
+  last_source_ = source;
   if (!p_.enabled || !have_command_) {
     v_c_ = v_d;
     have_command_ = true;
     return v_c_;
   }
+  // A drop: from a touchdown where the profile stepped down by more than drop_min, with V_d below
+  // V_c, until V_c has reached V_d (or V_d is no longer below it).
+  if (v_d >= v_c_) {
+    dropping_ = false;
+  } else if (stepped_down) {
+    dropping_ = true;
+  }
+  const double down = dropping_ && p_.v_d_rate_down > 0.0 && v_c_ <= p_.v_d_rate_down_below
+                          ? p_.v_d_rate_down
+                          : p_.v_d_rate;
   double next = v_d;
-  if (p_.v_d_rate > 0.0) next = std::clamp(v_d, v_c_ - p_.v_d_rate, v_c_ + p_.v_d_rate);
+  if (p_.v_d_rate > 0.0) next = std::clamp(v_d, v_c_ - down, v_c_ + p_.v_d_rate);
+  // In a drop V_c waits for the measured stride (drop_gap).
+  if (dropping_ && next < v_c_ && p_.drop_gap > 0.0 && std::isfinite(v_m)) {
+    next = std::min(v_c_, std::max(next, v_m - p_.drop_gap));
+  }
+  if (since_drop_ >= 0) ++since_drop_;
+  if (dropping_ && next < v_c_) since_drop_ = 0;
   pending_ff_ += p_.feedforward_gain * (map_.At(next) - map_.At(v_c_));
   v_c_ = next;
   return v_c_;
@@ -135,6 +176,8 @@ double VelocityControl::Update(double v_m, double t_step, double extra) {
   if (have_error_) {
     dq0 += k_v_ * (p_.enabled ? last_v_m_ - v_m : error - last_error_) / t_step;
   }
+  // After a decrease of V_c, the law may lower q0_d but not raise it (drop_no_raise).
+  if (since_drop_ >= 0 && since_drop_ < p_.drop_no_raise) dq0 = std::min(dq0, 0.0);
   if (p_.gait_shift_gain > 0.0) {
     // Split range: the effort below the q0_d floor shifts the gait pattern (FisOffset).
     const double reach = v_c_ < p_.gait_shift_below ? p_.gait_shift_max / p_.gait_shift_gain : 0.0;

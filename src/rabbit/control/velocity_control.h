@@ -32,11 +32,23 @@
 // by its rules) with the next (tracked) walks faster than either, at any pitch in the range
 // (docs/design.md, "Velocity control"). At or above gait_shift_below, u = q0_d (no shift).
 //
+// Drops (enabled only). A drop starts at a touchdown where the speed profile has stepped down by
+// more than drop_min since the previous one, with V_d below V_c, and lasts until V_c has reached
+// V_d (a command lowered by the slope brake or for an obstacle's approach is no drop). In a drop,
+// v_d_rate_down (m/s per step, > 0) takes the place of v_d_rate where V_c is at most
+// v_d_rate_down_below (above it, among the fast rule-walked gaits, v_d_rate stays); with
+// drop_gap > 0, V_c does not go below V_M - drop_gap (it waits for the measured stride, so that
+// the pattern does not reach a gait far slower than the robot); and for drop_no_raise touchdowns
+// from each decrease of V_c the law may lower q0_d but not raise it (a stumble's slow stride is
+// not answered by a lean forward that throws the robot past the new speed) (docs/design.md,
+// "Velocity control").
+//
 // With law = kStepMap the feedback law above gives way to the identified step-to-step map
 // (step_map_control.h), which chooses q0_d at each update; the rate limit still applies.
 #ifndef RABBIT_CONTROL_VELOCITY_CONTROL_H_
 #define RABBIT_CONTROL_VELOCITY_CONTROL_H_
 
+#include <limits>
 #include <string>
 #include <utility>
 #include <vector>
@@ -65,6 +77,15 @@ struct VelocityControlParams {
   double gait_shift_gain = 0.0;
   double gait_shift_max = 0.1;
   double gait_shift_below = 0.4;
+  // Drops: the rate while V_c decreases (0: v_d_rate; v_d_rate 0 is no limit either way), the
+  // largest gap below the measured stride V_M that a decreasing V_c may open (m/s, 0: off), and the
+  // touchdowns after a decrease of V_c during which the law does not raise q0_d (0: off). All off
+  // (and v_d_rate_down_below at any value): the law as above bit for bit.
+  double drop_min = 0.0;  // m/s: a step down of the profile larger than this starts a drop
+  double v_d_rate_down = 0.0;
+  double v_d_rate_down_below = 3.0;  // m/s: the V_c from which down v_d_rate_down applies
+  double drop_gap = 0.0;
+  int drop_no_raise = 0;
   // law = "step_map": the step-to-step map chooses q0_d at each update instead of the law above
   // (the rate limit still applies when enabled; the feed-forward and start_at_map do not: the
   // map's q* takes their place).
@@ -97,8 +118,11 @@ class VelocityControl {
   VelocityControl(const VelocityControlParams& params, double k_p, double k_v, double q0_d_min,
                   double q0_d_max, double q0_d_initial, PitchMap map);
   // At each touchdown, before Update: the command V_c for the coming step (V_d itself when not
-  // enabled). The first call starts V_c at v_d.
-  double Command(double v_d);
+  // enabled). The first call starts V_c at v_d. v_m: the measured stride (m/s; NaN: unknown), used
+  // by drop_gap; v_profile: the speed profile's V_d before the slope, obstacle and step handling
+  // moved it (NaN: v_d), whose steps down start a drop.
+  double Command(double v_d, double v_m = std::numeric_limits<double>::quiet_NaN(),
+                 double v_profile = std::numeric_limits<double>::quiet_NaN());
   // The law at a touchdown whose step was measured (V_M in m/s, t_step in s) outside the warm-up:
   // returns the new q0_d. `extra` (rad) joins the step's change of q0_d before the clamp (the
   // slope adaptation's braking); the first update with start_at_map sets q0_d = P(V_c) and
@@ -124,8 +148,11 @@ class VelocityControl {
   double last_error_ = 0.0;  // V_c - V_M at the previous update
   double last_v_m_ = 0.0;    // V_M at the previous update
   bool have_error_ = false;
-  bool started_ = false;  // the first update has been made
-  double excess_ = 0.0;   // gait shift: the effort u below the q0_d floor, u - q0_d (rad, <= 0)
+  bool started_ = false;      // the first update has been made
+  bool dropping_ = false;     // a drop is under way
+  double last_source_ = 0.0;  // the profile's V_d at the previous call
+  int since_drop_ = -1;       // touchdowns since V_c last decreased (-1: never)
+  double excess_ = 0.0;       // gait shift: the effort u below the q0_d floor, u - q0_d (rad, <= 0)
 };
 
 }  // namespace rabbit

@@ -236,6 +236,19 @@ void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
   if (!(p->gait_shift_below >= 0.0 && p->gait_shift_below <= 3.0)) {
     r.Fail("gait_shift_below", "must be in [0, 3] m/s");
   }
+  p->v_d_rate_down = r.Double("v_d_rate_down", p->v_d_rate_down);
+  if (!(p->v_d_rate_down >= 0.0 && p->v_d_rate_down <= 3.0)) {
+    r.Fail("v_d_rate_down", "must be in [0, 3] m/s per step (0: v_d_rate)");
+  }
+  p->v_d_rate_down_below = r.Double("v_d_rate_down_below", p->v_d_rate_down_below);
+  if (!(p->v_d_rate_down_below >= 0.0 && p->v_d_rate_down_below <= 3.0)) {
+    r.Fail("v_d_rate_down_below", "must be in [0, 3] m/s");
+  }
+  p->drop_min = r.Double("drop_min", p->drop_min);
+  if (!(p->drop_min >= 0.0 && p->drop_min <= 3.0)) r.Fail("drop_min", "must be in [0, 3] m/s");
+  p->drop_gap = r.Double("drop_gap", p->drop_gap);
+  if (!(p->drop_gap >= 0.0 && p->drop_gap <= 3.0)) r.Fail("drop_gap", "must be in [0, 3] m/s");
+  p->drop_no_raise = static_cast<int>(r.Integer("drop_no_raise", p->drop_no_raise, 0, 100));
   const std::string law = r.String("law", p->law == VelocityLaw::kStepMap ? "step_map" : "chapter");
   if (law != "chapter" && law != "step_map") r.Fail("law", "expected \"chapter\" or \"step_map\"");
   p->law = law == "step_map" ? VelocityLaw::kStepMap : VelocityLaw::kChapter;
