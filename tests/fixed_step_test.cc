@@ -18,6 +18,7 @@ namespace rabbit {
 namespace {
 
 using testing::HoldAt;
+using testing::MeasureDrop;
 using testing::Stance;
 
 // The state of scenarios/swing_free.toml: legs and trunk swinging while the robot falls.
@@ -96,16 +97,7 @@ TEST_P(FixedStepTest, DropSettlesWithinAcceptanceNumbers) {
   PdHoldController hold(HoldAt(q));
   const SimResult r = Simulate(setup, q, Vec7::Zero(), &hold);
   ASSERT_EQ(r.outcome, Outcome::kCompleted) << r.reason;
-  double deepest = 0.0, rebound = 0.0;
-  std::array<bool, kNumLegs> landed{};
-  for (const SimSample& s : r.samples) {
-    for (int leg = 0; leg < kNumLegs; ++leg) {
-      const double y = s.foot_pos[leg].y();
-      deepest = std::min(deepest, y);
-      if (s.foot_mode[leg] != ContactMode::kAir) landed[leg] = true;
-      if (landed[leg]) rebound = std::max(rebound, y);
-    }
-  }
+  const auto [deepest, rebound, landed] = MeasureDrop(r);
   std::printf("fixed step %g s, 2 cm drop: penetration %.2f mm, rebound %.3f mm\n", GetParam(),
               -deepest * 1e3, rebound * 1e3);
   EXPECT_TRUE(landed[0] && landed[1]);

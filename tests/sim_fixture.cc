@@ -20,4 +20,17 @@ PdHoldParams HoldAt(const Vec7& q) {
   return p;
 }
 
+DropMeasures MeasureDrop(const SimResult& r) {
+  DropMeasures m;
+  for (const SimSample& s : r.samples) {
+    for (int leg = 0; leg < kNumLegs; ++leg) {
+      const double y = s.foot_pos[leg].y();
+      m.deepest = std::min(m.deepest, y);
+      if (s.foot_mode[leg] != ContactMode::kAir) m.landed[leg] = true;
+      if (m.landed[leg]) m.rebound = std::max(m.rebound, y);
+    }
+  }
+  return m;
+}
+
 }  // namespace rabbit::testing

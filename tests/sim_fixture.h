@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 
 #include "rabbit/control/basic_controllers.h"
@@ -21,6 +22,14 @@ Vec7 Stance(const Model& model, double clearance, double half_angle_deg = 12.0);
 
 // A PD hold of the joints at q's.
 PdHoldParams HoldAt(const Vec7& q);
+
+// What the drop test's acceptance numbers are read from: the deepest foot below the ground
+// (<= 0), the highest foot above it once that foot has touched down, and which feet have.
+struct DropMeasures {
+  double deepest = 0.0, rebound = 0.0;
+  std::array<bool, kNumLegs> landed{};
+};
+DropMeasures MeasureDrop(const SimResult& r);
 
 // A test run with each integrator (the parameter).
 class SimulatorTest : public ::testing::TestWithParam<IntegratorKind> {

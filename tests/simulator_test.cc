@@ -54,6 +54,7 @@ TEST(OutcomeTest, TheVocabularyIsTheDocumentedOne) {
   EXPECT_FALSE(ParseOutcome("crashed", &unused));
 }
 using testing::HoldAt;
+using testing::MeasureDrop;
 using testing::kDeg;
 using testing::SimulatorTest;
 using testing::Stance;
@@ -127,16 +128,7 @@ TEST_P(SimulatorTest, DropSettlesWithinAcceptanceNumbers) {
   PdHoldController hold(HoldAt(q));
   const SimResult r = Simulate(setup, q, Vec7::Zero(), &hold);
   ASSERT_EQ(r.outcome, Outcome::kCompleted) << r.reason;
-  double deepest = 0.0, rebound = 0.0;
-  std::array<bool, kNumLegs> landed{};
-  for (const SimSample& s : r.samples) {
-    for (int leg = 0; leg < kNumLegs; ++leg) {
-      const double y = s.foot_pos[leg].y();
-      deepest = std::min(deepest, y);
-      if (s.foot_mode[leg] != ContactMode::kAir) landed[leg] = true;
-      if (landed[leg]) rebound = std::max(rebound, y);
-    }
-  }
+  const auto [deepest, rebound, landed] = MeasureDrop(r);
   const double kMaxPenetration = 0.005, kMaxRebound = 0.001;
   EXPECT_TRUE(landed[0] && landed[1]);
   EXPECT_GT(-deepest, 0.0);
