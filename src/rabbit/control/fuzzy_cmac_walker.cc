@@ -145,6 +145,7 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
           params.q0_d_initial,
           PitchMap(params.velocity_control.pitch_map.empty() ? params.gait_pitches
                                                              : params.velocity_control.pitch_map)),
+      choice_(params.rule_gait_choice, params.gait_pitches, params.rule_share),
       rng_(CmacMix64(params.seed)) {
   std::string error;
   if (!p_.IsValid(&error)) throw std::invalid_argument("walker: " + error);
@@ -274,7 +275,7 @@ double FuzzyCmacWalker::ObstacleAhead(const Observation& obs, double x) const {
 }
 
 void FuzzyCmacWalker::SetContext(double v_m, double d_obs) {
-  pattern_->SetContext(v_m, d_obs);  // no rule firing keeps the previous weights
+  pattern_->SetContext(choice_.Input(v_m), d_obs);  // no rule firing keeps the previous weights
 }
 
 void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
@@ -314,6 +315,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
       TerrainSpeedCommand(obs.terrain, slope_, p_.planner, terrain_steps_, v_d, landing, other_foot),
       v_m_, v_d);
   response_.Command(v_c, level);
+  choice_.OnCommand(v_c);
   const bool hold_pitch = pitch_hold_left_ > 0;  // planner.hold_pitch_steps after a step over
   if (hold_pitch) --pitch_hold_left_;
   // Nor at the steps.hold_steps touchdowns from a step's crossing (its V_M is the climb's or the

@@ -33,6 +33,7 @@
 #include "rabbit/control/pragmatic_rules.h"
 #include "rabbit/control/push_recovery.h"
 #include "rabbit/control/push_response.h"
+#include "rabbit/control/rule_gait_choice.h"
 #include "rabbit/control/slope_adaptation.h"
 #include "rabbit/control/stall_recovery.h"
 #include "rabbit/control/step_planner.h"
@@ -78,6 +79,10 @@ struct WalkerParams {
   // The fast gaits use the motors' whole torque and speed range on a compliant stance knee, which
   // PD tracking cannot reproduce (docs/design.md, "The walker"): they are walked by their rules.
   std::vector<double> rule_share;
+  // Between two neighbouring rule-walked gaits (share >= 1/2) the gait pattern's velocity input
+  // moves to the nearer one's speed, the speeds being gait_pitches' (rule_gait_choice.h; false:
+  // the input as it is, the blend of both).
+  bool rule_gait_choice = false;
   // Per reference gait, in the gait pattern's order (filled from the gait database, not a key).
   std::vector<PragmaticParams> gait_rules;
   // Perception.
@@ -212,6 +217,7 @@ class FuzzyCmacWalker final : public Controller {
   double v_m_;                    // V_M in use (noisy)
   std::vector<double> measured_;  // measured per-step V_M (noisy), for the running mean
   VelocityControl speed_;         // the q0_d update (eqs. 19-20, velocity_control.h)
+  RuleGaitChoice choice_;         // between two rule-walked gaits (rule_gait_choice.h)
   std::uint64_t rng_;
   long periods_ = 0;
   bool lift_armed_ = false;                               // set at each touchdown

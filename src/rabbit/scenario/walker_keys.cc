@@ -292,6 +292,7 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   w.fis_v_lead = t->Double("fis_v_lead", w.fis_v_lead);
   w.d_obs_max = t->Double("d_obs_max", w.d_obs_max);
   w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
+  w.rule_gait_choice = t->Bool("rule_gait_choice", w.rule_gait_choice);
   w.lift.clearance = t->Double("lift_clearance", w.lift.clearance);
   w.lift.d_obs = t->Double("lift_d_obs", w.lift.d_obs);
   w.lift.lead = t->Double("lift_lead", w.lift.lead);

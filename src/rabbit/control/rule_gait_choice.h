@@ -1,0 +1,58 @@
+// The choice between two rule-walked gaits (WalkerParams::rule_gait_choice; docs/design.md,
+// "Velocity control").
+//
+// A gait walked by its pragmatic rules (rule_share 1) swings by its own hip pulse, lock angle and
+// knee lock; the Fuzzy-CMAC's blend of two such neighbouring gaits sums their rule torques, each
+// with its own lock, and walks neither: on the shipped database the blend of the 0.8 and 0.9 m/s
+// gaits walks 0.7-0.8 m/s at the top of the pitch range with strides that swing by 0.3 m/s from
+// one step to the next, where each gait alone walks its own speed. With the choice, a velocity
+// input of the gait pattern that lies strictly between the speeds of two neighbouring gaits that
+// are both rule-walked (share >= 1/2) is moved to the nearer of the two (the upper one at the
+// midpoint), so that the pattern walks one of them; the trunk pitch of the velocity control then
+// brings the stride to V_d. Between any other neighbours (one tracked gait) the input is left
+// unchanged. The choice acts while the command V_c holds (is the same as at the touchdown
+// before): while V_c moves (a ramp, or the rate limit after a step of V_d) the blend carries the
+// pattern from one gait to the next, as a jump from the 0.9 to the 0.8 m/s gait in a ramp down
+// leaves the robot at the faster gait's speed on the slower gait's pattern, and the tracked gait
+// that joins next takes a long step.
+#ifndef RABBIT_CONTROL_RULE_GAIT_CHOICE_H_
+#define RABBIT_CONTROL_RULE_GAIT_CHOICE_H_
+
+#include <utility>
+#include <vector>
+
+namespace rabbit {
+
+// v: the gait pattern's velocity input (m/s); speeds: the reference gaits' speeds (the gait
+// pattern's centres, m/s) and rule_share their shares, both in the gait pattern's order (the
+// speeds need not be sorted; unequal sizes or an empty share leave v unchanged).
+double ChooseRuleGait(double v, const std::vector<double>& speeds,
+                      const std::vector<double>& rule_share);
+
+// The walker's choice: ChooseRuleGait while the command holds, the input as it is otherwise.
+class RuleGaitChoice {
+ public:
+  RuleGaitChoice() = default;
+  // gait_pitches: the reference gaits' (speed, pitch), rule_share their shares (empty: none), in
+  // the gait pattern's order; enabled with a share per gait but not a speed per gait throws
+  // std::invalid_argument.
+  RuleGaitChoice(bool enabled, const std::vector<std::pair<double, double>>& gait_pitches,
+                 std::vector<double> rule_share);
+  // At each touchdown: the command V_c of the coming step.
+  void OnCommand(double v_c);
+  // The gait pattern's velocity input after the choice.
+  double Input(double v) const {
+    return enabled_ && holding_ ? ChooseRuleGait(v, speeds_, rule_share_) : v;
+  }
+  bool holding() const { return holding_; }
+
+ private:
+  bool enabled_ = false;
+  std::vector<double> speeds_, rule_share_;
+  bool have_command_ = false, holding_ = false;
+  double last_command_ = 0.0;
+};
+
+}  // namespace rabbit
+
+#endif  // RABBIT_CONTROL_RULE_GAIT_CHOICE_H_

@@ -1,0 +1,110 @@
+// The choice between two neighbouring rule-walked gaits (rule_gait_choice.h): the nearer gait
+// between two rule-walked ones, the input unchanged elsewhere, the choice only while the command
+// holds, and the walker key rule_gait_choice (on in the adaptive preset, off in the chapter's).
+#include "rabbit/control/rule_gait_choice.h"
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "rabbit/scenario/suite.h"
+#include "suite_fixture.h"
+
+namespace rabbit {
+namespace {
+
+// The shipped database's pattern: eight gaits, the slowest and the three fastest rule-walked.
+const std::vector<double> kSpeeds = {0.30, 0.39, 0.49, 0.58, 0.69, 0.81, 0.89, 0.99};
+const std::vector<double> kShare = {1, 0, 0, 0, 0, 1, 1, 1};
+
+TEST(RuleGaitChoiceTest, BetweenTwoRuleWalkedGaitsTheNearerIsChosen) {
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.84, kSpeeds, kShare), 0.81);
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.86, kSpeeds, kShare), 0.89);
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.75, {0.5, 1.0}, {1, 1}), 1.0);  // the midpoint: the upper
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.93, kSpeeds, kShare), 0.89);
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.95, kSpeeds, kShare), 0.99);
+}
+
+TEST(RuleGaitChoiceTest, NextToATrackedGaitAndOutsideTheInputIsUnchanged) {
+  for (double v : {0.20, 0.30, 0.35, 0.45, 0.75, 0.81, 0.89, 1.2}) {
+    EXPECT_DOUBLE_EQ(ChooseRuleGait(v, kSpeeds, kShare), v) << v;
+  }
+  // No shares (the chapter's walker) or mismatched sizes: unchanged.
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.86, kSpeeds, {}), 0.86);
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.86, kSpeeds, {1, 1}), 0.86);
+  EXPECT_TRUE(std::isnan(ChooseRuleGait(NAN, kSpeeds, kShare)));
+}
+
+TEST(RuleGaitChoiceTest, SpeedsInAnyOrder) {
+  const std::vector<double> speeds = {0.9, 0.5, 0.8};
+  const std::vector<double> share = {1, 0, 1};
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.83, speeds, share), 0.8);
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.88, speeds, share), 0.9);
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.70, speeds, share), 0.70);
+}
+
+std::vector<std::pair<double, double>> Pitches() {
+  std::vector<std::pair<double, double>> p;
+  for (double v : kSpeeds) p.push_back({v, 0.1});
+  return p;
+}
+
+TEST(RuleGaitChoiceTest, OnlyWhileTheCommandHolds) {
+  RuleGaitChoice choice(true, Pitches(), kShare);
+  EXPECT_DOUBLE_EQ(choice.Input(0.86), 0.86);  // no command yet
+  choice.OnCommand(0.86);
+  EXPECT_FALSE(choice.holding());  // the first command: not yet held
+  EXPECT_DOUBLE_EQ(choice.Input(0.86), 0.86);
+  choice.OnCommand(0.86);
+  EXPECT_TRUE(choice.holding());
+  EXPECT_DOUBLE_EQ(choice.Input(0.86), 0.89);
+  EXPECT_DOUBLE_EQ(choice.Input(0.60), 0.60);
+  choice.OnCommand(0.83);  // a ramp: the blend
+  EXPECT_DOUBLE_EQ(choice.Input(0.83), 0.83);
+  choice.OnCommand(0.83);
+  EXPECT_DOUBLE_EQ(choice.Input(0.83), 0.81);
+}
+
+TEST(RuleGaitChoiceTest, OffIsTheInputAsItIs) {
+  RuleGaitChoice choice(false, Pitches(), kShare);
+  choice.OnCommand(0.86);
+  choice.OnCommand(0.86);
+  EXPECT_DOUBLE_EQ(choice.Input(0.86), 0.86);
+  EXPECT_DOUBLE_EQ(RuleGaitChoice().Input(0.86), 0.86);
+}
+
+TEST(RuleGaitChoiceTest, NeedsASpeedPerGait) {
+  EXPECT_THROW(RuleGaitChoice(true, {{0.8, 0.2}}, kShare), std::invalid_argument);
+  EXPECT_NO_THROW(RuleGaitChoice(false, {{0.8, 0.2}}, kShare));
+  EXPECT_NO_THROW(RuleGaitChoice(true, {{0.8, 0.2}}, {}));  // no shares: nothing to choose
+}
+
+class RuleGaitChoiceKeysTest : public testing::SuiteFileTest {
+ protected:
+  RuleGaitChoiceKeysTest() : SuiteFileTest("rabbit_rule_gait_choice_test") {}
+  // The walk of WalkerKeysSuite with `line` (line 9) in [defaults.controller].
+  static std::string Suite(const std::string& line) {
+    std::string text = testing::WalkerKeysSuite("velocity_control", "");
+    const std::string type = "type = \"fuzzy_cmac\"\n";
+    text.replace(text.find(type), type.size(), type + line);
+    return text;
+  }
+};
+
+TEST_F(RuleGaitChoiceKeysTest, ReadAndValidated) {
+  EXPECT_TRUE(LoadSuite(Write(Suite(""))).scenarios[0].walker.rule_gait_choice);  // adaptive
+  EXPECT_FALSE(
+      LoadSuite(Write(Suite("preset = \"chapter\"\n"))).scenarios[0].walker.rule_gait_choice);
+  EXPECT_FALSE(LoadSuite(Write(Suite("rule_gait_choice = false\n")))
+                   .scenarios[0]
+                   .walker.rule_gait_choice);
+  ExpectSuiteError(Suite("rule_gait_choice = 1\n"), 9, "scenario[1].controller.rule_gait_choice",
+                   "");
+}
+
+}  // namespace
+}  // namespace rabbit
