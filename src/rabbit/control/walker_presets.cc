@@ -89,12 +89,7 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       w.recovery.response_rules_steps = 6;
       w.recovery.response_rules_dead = 0.6;
       w.recovery.response_place_gain = 0.3;
-      // A backward disturbance moves the swing foot back by 0.3 of the forward law: on the
-      // robustness_train.toml pushes (push and push_survival) 43 of 80 members against 40, on
-      // scenarios/train/push.toml (2-20 N s) 63 of 80 against 61; the other families unchanged
-      // but one speed_commands member (a fall that now completes, still failing its criteria)
-      // (docs/design.md, "Push recovery").
-      w.recovery.response_place_back = 0.3;
+      w.recovery.response_place_back = 0.0;
       break;
     case WalkerPreset::kChapter:
       // Table 3's obstacle strategy alone, the fast gaits' swing kept theirs while the foot lift
