@@ -83,6 +83,20 @@ TEST(WalkerPresets, TheChapterDiffersFromTheAdaptiveWalkerOnlyWhereDocumented) {
   EXPECT_TRUE(c.IsValid(&error)) << error;
 }
 
+TEST(WalkerPresets, TheAdaptiveWalkerStepsOverLowerAndShorter) {
+  const WalkerParams a = PresetWalkerParams(WalkerPreset::kAdaptive);
+  const WalkerParams c = PresetWalkerParams(WalkerPreset::kChapter);
+  EXPECT_EQ(a.lift.clearance, 0.04);
+  EXPECT_EQ(a.planner.over_lift_release, 0.02);
+  EXPECT_EQ(a.planner.l_over_max, 0.45);
+  // The chapter's walker keeps the library's lift (its planner is off).
+  EXPECT_EQ(c.lift.clearance, FootLiftParams().clearance);
+  EXPECT_EQ(c.planner.over_lift_release, StepPlannerParams().over_lift_release);
+  EXPECT_EQ(c.planner.l_over_max, StepPlannerParams().l_over_max);
+  std::string error;
+  EXPECT_TRUE(a.IsValid(&error)) << error;
+}
+
 TEST(WalkerPresets, TheAdaptiveWalkerLeansBackFurtherForAStepDown) {
   const WalkerParams a = PresetWalkerParams(WalkerPreset::kAdaptive);
   const WalkerParams c = PresetWalkerParams(WalkerPreset::kChapter);

@@ -43,6 +43,14 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // step over: obstacle rows 10 -> 18 of 40 training members (docs/design.md, "The step
       // planner").
       w.planner.hold_pitch_steps = 3;
+      // A lower, shorter step over: the foot lift 0.04 m above the obstacle (0.06 otherwise), the
+      // step over's foot lowered within 0.02 m past the far edge (0.05) and asked for at most
+      // 0.45 m (0.50): on robustness_train.toml (baselines = []) obstacle 30 -> 32, rows 12 -> 23
+      // of 40; on scenarios/train/obstacles.toml 108 -> 120 of 170 (docs/design.md, "The step
+      // planner").
+      w.lift.clearance = 0.04;
+      w.planner.over_lift_release = 0.02;
+      w.planner.l_over_max = 0.45;
       w.slope.enabled = true;
       // The speed command moves with the grades ahead: up before and on an uphill, down before
       // and on a downhill (docs/design.md, "Slope adaptation"; neutral on flat ground).
