@@ -50,7 +50,7 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // planner").
       w.lift.clearance = 0.04;
       // ... and at least 0.8 of the obstacle's height above a high one (0.056 m over 0.07 m):
-      // robustness_train (the four obstacle families of 40 but after a push) 124 -> 127 of 160,
+      // robustness_train (obstacle, rows, during a speed change, noise: 40 each) 124 -> 127 of 160,
       // train/obstacles 120 -> 122 of 170 (docs/design.md, "The step planner").
       w.lift.height_gain = 0.8;
       w.planner.over_lift_release = 0.02;
