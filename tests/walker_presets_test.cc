@@ -83,6 +83,43 @@ TEST(WalkerPresets, TheChapterDiffersFromTheAdaptiveWalkerOnlyWhereDocumented) {
   EXPECT_TRUE(c.IsValid(&error)) << error;
 }
 
+TEST(WalkerPresets, TheAdaptiveWalkerStepsOverLowerAndShorter) {
+  const WalkerParams a = PresetWalkerParams(WalkerPreset::kAdaptive);
+  const WalkerParams c = PresetWalkerParams(WalkerPreset::kChapter);
+  EXPECT_EQ(a.lift.clearance, 0.04);
+  EXPECT_EQ(a.lift.height_gain, 0.8);
+  EXPECT_EQ(c.lift.height_gain, 0.0);
+  EXPECT_EQ(a.planner.over_lift_release, 0.02);
+  EXPECT_EQ(a.planner.l_over_max, 0.45);
+  // The chapter's walker keeps the library's lift (its planner is off).
+  EXPECT_EQ(c.lift.clearance, FootLiftParams().clearance);
+  EXPECT_EQ(c.planner.over_lift_release, StepPlannerParams().over_lift_release);
+  EXPECT_EQ(c.planner.l_over_max, StepPlannerParams().l_over_max);
+  std::string error;
+  EXPECT_TRUE(a.IsValid(&error)) << error;
+}
+
+TEST(FootLift, TheClearanceGrowsWithTheObstacleOnlyWithAHeightGain) {
+  FootLiftParams p;
+  p.clearance = 0.04;
+  EXPECT_EQ(LiftClearance(p, 0.07), 0.04);  // off: the clearance alone
+  p.height_gain = 0.8;
+  EXPECT_EQ(LiftClearance(p, 0.02), 0.04);  // a low obstacle: the clearance
+  EXPECT_DOUBLE_EQ(LiftClearance(p, 0.07), 0.056);
+  EXPECT_DOUBLE_EQ(LiftClearance(p, 0.05), 0.04);
+  WalkerParams w = PresetWalkerParams(WalkerPreset::kAdaptive);
+  w.lift.height_gain = -0.5;
+  std::string error;
+  EXPECT_FALSE(w.IsValid(&error));
+  EXPECT_NE(error.find("lift_height_gain"), std::string::npos) << error;
+}
+
+TEST_F(WalkerPresetsTest, TheLiftHeightGainIsReadOverThePreset) {
+  EXPECT_EQ(LoadScenario(Write("")).walker.lift.height_gain, 0.8);
+  EXPECT_EQ(LoadScenario(Write("lift_height_gain = 0.5\n")).walker.lift.height_gain, 0.5);
+  EXPECT_THROW(LoadScenario(Write("lift_height_gain = -1\n")), InputError);
+}
+
 TEST(WalkerPresets, TheAdaptiveWalkerLeansBackFurtherForAStepDown) {
   const WalkerParams a = PresetWalkerParams(WalkerPreset::kAdaptive);
   const WalkerParams c = PresetWalkerParams(WalkerPreset::kChapter);

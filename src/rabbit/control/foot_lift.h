@@ -11,10 +11,17 @@
 #ifndef RABBIT_CONTROL_FOOT_LIFT_H_
 #define RABBIT_CONTROL_FOOT_LIFT_H_
 
+#include <algorithm>
+
 namespace rabbit {
 
 struct FootLiftParams {
   double clearance = 0.06;  // m above the obstacle's top (0 turns the lift off)
+  // The clearance grows with the obstacle: max(clearance, height_gain * height) above its top
+  // (LiftClearance; 0: clearance alone). A swing foot tracks the raised point with a lag and dips
+  // below it by more the higher it was raised, so a clearance low enough for a short step over a
+  // low obstacle trips on a high one.
+  double height_gain = 0.0;
   double d_obs = 0.25;      // m: armed for the step over when d_obs is below this
   double lead = 0.10, trail = 0.04, ramp = 0.10, release = 0.10;  // m
   // The knee flexes further when the measured thigh, lagging its reference, would leave the foot
@@ -24,6 +31,11 @@ struct FootLiftParams {
   // which acts through the PD references, can raise the foot; true keeps it.
   bool keeps_rules = false;
 };
+
+// The lift's clearance above an obstacle `height` m high (m).
+inline double LiftClearance(const FootLiftParams& p, double height) {
+  return p.height_gain > 0.0 ? std::max(p.clearance, p.height_gain * height) : p.clearance;
+}
 
 }  // namespace rabbit
 

@@ -21,6 +21,7 @@ bool WalkerParams::IsValid(std::string* error) const {
                                                    {"trunk_kd", trunk_kd},
                                                    {"d_obs_max", d_obs_max},
                                                    {"lift_clearance", lift.clearance},
+                                                   {"lift_height_gain", lift.height_gain},
                                                    {"lift_d_obs", lift.d_obs},
                                                    {"lift_lead", lift.lead},
                                                    {"lift_trail", lift.trail},
@@ -381,8 +382,8 @@ double FuzzyCmacWalker::LiftHeight(const Terrain& terrain, double foot_x) const 
     a = std::clamp(a, 0.0, 1.0);
     // Above the ground the obstacle stands on (absolute heights: the hip's y is absolute).
     if (a > 0.0) {
-      h = std::max(h,
-                   terrain.ObstacleBase(static_cast<int>(i)) + a * (o.height + p_.lift.clearance));
+      h = std::max(h, terrain.ObstacleBase(static_cast<int>(i)) +
+                          a * (o.height + LiftClearance(p_.lift, o.height)));
     }
   }
   return h;

@@ -43,6 +43,18 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // step over: obstacle rows 10 -> 18 of 40 training members (docs/design.md, "The step
       // planner").
       w.planner.hold_pitch_steps = 3;
+      // A lower, shorter step over: the foot lift 0.04 m above the obstacle (0.06 otherwise), the
+      // step over's foot lowered within 0.02 m past the far edge (0.05) and asked for at most
+      // 0.45 m (0.50): on robustness_train.toml (baselines = []) obstacle 30 -> 32, rows 12 -> 23
+      // of 40; on scenarios/train/obstacles.toml 108 -> 120 of 170 (docs/design.md, "The step
+      // planner").
+      w.lift.clearance = 0.04;
+      // ... and at least 0.8 of the obstacle's height above a high one (0.056 m over 0.07 m):
+      // robustness_train (obstacle, rows, during a speed change, noise: 40 each) 124 -> 127 of 160,
+      // train/obstacles 120 -> 122 of 170 (docs/design.md, "The step planner").
+      w.lift.height_gain = 0.8;
+      w.planner.over_lift_release = 0.02;
+      w.planner.l_over_max = 0.45;
       w.slope.enabled = true;
       // The speed command moves with the grades ahead: up before and on an uphill, down before
       // and on a downhill (docs/design.md, "Slope adaptation"; neutral on flat ground).

@@ -294,6 +294,7 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
   w.rule_gait_choice = t->Bool("rule_gait_choice", w.rule_gait_choice);
   w.lift.clearance = t->Double("lift_clearance", w.lift.clearance);
+  w.lift.height_gain = t->Double("lift_height_gain", w.lift.height_gain);
   w.lift.d_obs = t->Double("lift_d_obs", w.lift.d_obs);
   w.lift.lead = t->Double("lift_lead", w.lift.lead);
   w.lift.trail = t->Double("lift_trail", w.lift.trail);
