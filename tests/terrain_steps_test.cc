@@ -164,6 +164,43 @@ TEST(TerrainStepsTest, LeanAndStanceKneeRamps) {
   EXPECT_EQ(off.StanceKnee(1.0), 0.0);
 }
 
+TEST(TerrainStepsTest, StanceKneeExtensionWaitsForTheHip) {
+  const Terrain t = Platform(2.0, 4.0, 0.04);
+  TerrainStepParams p;
+  p.enabled = true;
+  p.up_knee_share = 1.0;
+  p.up_knee_ramp_s = 0.1;
+  p.up_knee_by_hip = true;
+  p.up_knee_at = -0.1;
+  TerrainSteps steps(p);
+  steps.OnTouchdown(t, 1.0, Vec2(1.8, 0.0), Vec2(1.45, 0.0));
+  // Landed on the upper level at 2.15: the knee stays flexed while the hip is more than 0.1 m
+  // behind the foot, however long that takes.
+  steps.OnTouchdown(t, 1.6, Vec2(2.15, 0.04), Vec2(1.8, 0.0));
+  const double k_up = KneeForShortening(kL1, kL2, 0.04);
+  steps.Observe(1.6, 1.95);
+  EXPECT_NEAR(steps.StanceKnee(1.6), k_up, kTolerance);
+  steps.Observe(1.9, 2.04);
+  EXPECT_NEAR(steps.StanceKnee(1.9), k_up, kTolerance);
+  // The hip reaches 2.05 at 2.0 s: the extension runs over up_knee_ramp_s from there.
+  steps.Observe(2.0, 2.05);
+  EXPECT_NEAR(steps.StanceKnee(2.0), k_up, kTolerance);
+  steps.Observe(2.05, 2.07);
+  EXPECT_NEAR(steps.StanceKnee(2.05), k_up / 2, kTolerance);
+  steps.Observe(2.1, 2.04);  // a hip back behind the gate does not restart it
+  EXPECT_EQ(steps.StanceKnee(2.1), 0.0);
+  // The next touchdown on the same level: no flexion.
+  steps.OnTouchdown(t, 2.2, Vec2(2.5, 0.04), Vec2(2.15, 0.04));
+  steps.Observe(2.2, 2.3);
+  EXPECT_EQ(steps.StanceKnee(2.2), 0.0);
+  // Without up_knee_by_hip the extension starts at the touchdown, wherever the hip is.
+  p.up_knee_by_hip = false;
+  TerrainSteps timed(p);
+  timed.OnTouchdown(t, 1.6, Vec2(2.15, 0.04), Vec2(1.8, 0.0));
+  timed.Observe(1.65, 1.9);
+  EXPECT_NEAR(timed.StanceKnee(1.65), k_up / 2, kTolerance);
+}
+
 TEST(TerrainStepsTest, ApproachSpeedNearAFace) {
   const Terrain t = Platform(2.0, 4.0, 0.04);
   TerrainStepParams p;
@@ -250,6 +287,10 @@ TEST(TerrainStepsTest, InvalidParametersAreRefused) {
   p = TerrainStepParams();
   p.hold_steps = -1;
   EXPECT_FALSE(p.IsValid(&error));
+  p = TerrainStepParams();
+  p.up_knee_at = 1.5;
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("up_knee_at"), std::string::npos);
 }
 
 class TerrainStepKeysTest : public ::testing::Test {
@@ -276,7 +317,7 @@ TEST_F(TerrainStepKeysTest, KeysAreRead) {
   const Scenario s = LoadScenario(
       Write("enabled = true\nclearance = 0.05\nup_lean = 6.0\nknee_share = 0.3\nlean_steps = 3\n"
             "placement = false\nup_speed = 0.75\ndown_speed = 0.6\nspeed_before = 3.0\n"
-            "hold_steps = 3\n"));
+            "hold_steps = 3\nup_knee_by_hip = true\nup_knee_at = -0.1\n"));
   EXPECT_TRUE(s.walker.steps.enabled);
   EXPECT_EQ(s.walker.steps.clearance, 0.05);
   EXPECT_EQ(s.walker.steps.up_lean, 6.0);
@@ -287,6 +328,8 @@ TEST_F(TerrainStepKeysTest, KeysAreRead) {
   EXPECT_EQ(s.walker.steps.down_speed, 0.6);
   EXPECT_EQ(s.walker.steps.speed_before, 3.0);
   EXPECT_EQ(s.walker.steps.hold_steps, 3);
+  EXPECT_TRUE(s.walker.steps.up_knee_by_hip);
+  EXPECT_EQ(s.walker.steps.up_knee_at, -0.1);
 }
 
 TEST_F(TerrainStepKeysTest, BadValueNamesItsKey) {

@@ -578,6 +578,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
       knee_kd += w[k] * p_.rule_share[k] * p_.gait_rules[k].knee_kd;
     }
   }
+  terrain_steps_.Observe(obs.t, q[kX]);
   const double knee_ref = stall_.StanceKnee(obs.t) + terrain_steps_.StanceKnee(obs.t);
   tau[2 * st + 1] = knee_kp * (knee_ref - q[st_hip + 1]) - knee_kd * qd[st_hip + 1];
   const double q0_d = q0_d_ + recovery_.TrunkOffset(obs.t) + response_.TrunkOffset() +

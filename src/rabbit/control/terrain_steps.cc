@@ -59,6 +59,10 @@ bool TerrainStepParams::IsValid(std::string* error) const {
     *error = "steps.knee_share and steps.up_knee_share must be in [0, 1]";
     return false;
   }
+  if (!(std::isfinite(up_knee_at) && std::abs(up_knee_at) <= 1.0)) {
+    *error = "steps.up_knee_at must be in [-1, 1] m";
+    return false;
+  }
   if (!(thigh_length > 0.0 && shin_length > 0.0)) {
     *error = "steps: leg lengths must be positive";
     return false;
@@ -123,12 +127,17 @@ void TerrainSteps::OnTouchdown(const Terrain& terrain, double t, const Vec2& lan
   if (lean_left_ > 0) --lean_left_;
   knee_from_ = knee_to_ = 0.0;
   knee_t0_ = t;
+  knee_gate_x_ = NAN;
   const double l1 = p_.thigh_length, l2 = p_.shin_length;
   const double climbed = RiseBetween(ground, back, front);
   if (climbed > 0.0 && p_.up_knee_share > 0.0) {
     // Landed on the upper level: the new stance knee extends through the rise.
     knee_from_ = KneeForShortening(l1, l2, climbed * p_.up_knee_share);
     knee_ramp_ = p_.up_knee_ramp_s;
+    if (p_.up_knee_by_hip) {
+      knee_gate_x_ = front + p_.up_knee_at;
+      knee_t0_ = kInf;
+    }
   }
   if (crossed.found) {
     lean_ = crossed.rise > 0.0 ? p_.up_lean * crossed.rise : p_.down_lean * -crossed.rise;
@@ -137,6 +146,8 @@ void TerrainSteps::OnTouchdown(const Terrain& terrain, double t, const Vec2& lan
       knee_from_ = 0.0;
       knee_to_ = KneeForShortening(l1, l2, -crossed.rise * p_.knee_share);
       knee_ramp_ = p_.knee_ramp_s;
+      knee_gate_x_ = NAN;
+      knee_t0_ = t;
     }
   }
 }
@@ -172,9 +183,17 @@ double TerrainSteps::FaceAhead(const Terrain& terrain, double x, double horizon,
   return edge - x;
 }
 
+void TerrainSteps::Observe(double t, double hip_x) {
+  if (!p_.enabled || std::isnan(knee_gate_x_) || hip_x < knee_gate_x_) return;
+  knee_t0_ = t;
+  knee_gate_x_ = NAN;
+}
+
 double TerrainSteps::StanceKnee(double t) const {
   if (!p_.enabled || (knee_from_ == 0.0 && knee_to_ == 0.0)) return 0.0;
-  const double s = knee_ramp_ > 0.0 ? std::clamp((t - knee_t0_) / knee_ramp_, 0.0, 1.0) : 1.0;
+  const double s = t < knee_t0_           ? 0.0  // the extension waits for the hip
+                   : knee_ramp_ > 0.0 ? std::clamp((t - knee_t0_) / knee_ramp_, 0.0, 1.0)
+                                      : 1.0;
   return knee_from_ + s * (knee_to_ - knee_from_);
 }
 

@@ -25,7 +25,11 @@
 //                  swing foot instead of falling onto the lower level; after a landing on the
 //                  upper level of a step up the new stance knee starts flexed so that the leg is
 //                  shorter by up_knee_share times the rise and extends over up_knee_ramp_s: the
-//                  knee lifts the hip onto the step;
+//                  knee lifts the hip onto the step; with up_knee_by_hip the extension starts
+//                  only once the hip has come to up_knee_at (m, negative: behind) from the new
+//                  stance foot (Observe): a leg that extends while its foot is still well ahead
+//                  of the hip pushes the hip back and up, and the robot stops short of the foot
+//                  and rolls back;
 //   approach       while a step up's (down's) face lies between the back foot and speed_before
 //                  beyond the front foot, the walker acts on up_speed (down_speed) in place of
 //                  V_d (through the velocity control's rate limit), the larger when both: at a
@@ -67,6 +71,8 @@ struct TerrainStepParams {
   double knee_ramp_s = 0.25;     // s: the knee's flexion comes in over this after the touchdown
   double up_knee_share = 1.0;    // share of a rise the stance knee extends through after a step up
   double up_knee_ramp_s = 0.25;  // s: the knee extends over this after landing on the upper level
+  bool up_knee_by_hip = false;   // the extension waits for the hip to reach up_knee_at
+  double up_knee_at = 0.0;       // m: the hip's x less the stance foot's that starts the extension
   // Off (0) here; the adaptive preset sets them (walker_presets.cc).
   double up_speed = 0.0;      // m/s: the speed asked for approaching a step up (0: V_d)
   double down_speed = 0.0;    // m/s: the same approaching a step down (0: V_d)
@@ -127,6 +133,8 @@ class TerrainSteps {
   bool HoldsPitch() const { return p_.enabled && hold_left_ > 0; }
   // Added to q0_d, rad.
   double TrunkOffset() const { return p_.enabled && lean_left_ > 0 ? lean_ : 0.0; }
+  // Each control period with the hip's x: starts a waiting extension (up_knee_by_hip).
+  void Observe(double t, double hip_x);
   // Added to the stance knee's reference at t, rad (<= 0).
   double StanceKnee(double t) const;
 
@@ -140,6 +148,7 @@ class TerrainSteps {
   double lean_ = 0.0;                       // rad
   double knee_from_ = 0.0, knee_to_ = 0.0;  // rad: the stance knee's ramp (<= 0)
   double knee_t0_ = 0.0, knee_ramp_ = 0.0;  // s: its start and length
+  double knee_gate_x_ = NAN;                // m: the hip's x that starts the extension (NaN: none)
 };
 
 }  // namespace rabbit

@@ -27,6 +27,8 @@ void ReadTerrainStepKeys(TomlReader r, TerrainStepParams* p) {
   p->knee_ramp_s = in("knee_ramp_s", p->knee_ramp_s, 0.0, 2.0, "[0, 2] s");
   p->up_knee_share = in("up_knee_share", p->up_knee_share, 0.0, 1.0, "[0, 1]");
   p->up_knee_ramp_s = in("up_knee_ramp_s", p->up_knee_ramp_s, 0.0, 2.0, "[0, 2] s");
+  p->up_knee_by_hip = r.Bool("up_knee_by_hip", p->up_knee_by_hip);
+  p->up_knee_at = in("up_knee_at", p->up_knee_at, -1.0, 1.0, "[-1, 1] m");
   p->up_speed = in("up_speed", p->up_speed, 0.0, 2.0, "[0, 2] m/s");
   p->down_speed = in("down_speed", p->down_speed, 0.0, 2.0, "[0, 2] m/s");
   p->speed_before = in("speed_before", p->speed_before, 0.0, 5.0, "[0, 5] m");
