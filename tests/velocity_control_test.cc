@@ -131,6 +131,51 @@ TEST(VelocityControlTest, ParamsValidation) {
   EXPECT_NE(error.find("pitch_map_deg"), std::string::npos);
 }
 
+// Every ranged key: a value just past either end is refused with a message naming the key and
+// its range; the ends themselves are accepted.
+TEST(VelocityControlTest, EachRangedKeyIsCheckedAtBothEnds) {
+  struct Case {
+    const char* message;
+    double VelocityControlParams::*field;
+    double lo, hi;
+  };
+  const Case cases[] = {
+      {"velocity_control.v_d_rate must be in [0, 3] m/s per step", &VelocityControlParams::v_d_rate,
+       0.0, 3.0},
+      {"velocity_control.feedforward_gain must be in [0, 2]",
+       &VelocityControlParams::feedforward_gain, 0.0, 2.0},
+      {"velocity_control.gait_shift_gain must be in [0, 10] m/s per rad",
+       &VelocityControlParams::gait_shift_gain, 0.0, 10.0},
+      {"velocity_control.gait_shift_max must be in [0, 0.5] m/s",
+       &VelocityControlParams::gait_shift_max, 0.0, 0.5},
+      {"velocity_control.gait_shift_below must be in [0, 3] m/s",
+       &VelocityControlParams::gait_shift_below, 0.0, 3.0},
+      {"velocity_control.v_d_rate_down must be in [0, 3] m/s per step",
+       &VelocityControlParams::v_d_rate_down, 0.0, 3.0},
+      {"velocity_control.v_d_rate_down_below must be in [0, 3] m/s",
+       &VelocityControlParams::v_d_rate_down_below, 0.0, 3.0},
+      {"velocity_control.drop_min must be in [0, 3] m/s", &VelocityControlParams::drop_min, 0.0,
+       3.0},
+      {"velocity_control.drop_gap must be in [0, 3] m/s", &VelocityControlParams::drop_gap, 0.0,
+       3.0},
+  };
+  for (const Case& c : cases) {
+    for (double value : {c.lo, c.hi}) {
+      VelocityControlParams p;
+      p.*c.field = value;
+      std::string error;
+      EXPECT_TRUE(p.IsValid(&error)) << c.message << " at " << value << ": " << error;
+    }
+    for (double value : {c.lo - 1e-9, c.hi + 1e-9, std::nan("")}) {
+      VelocityControlParams p;
+      p.*c.field = value;
+      std::string error;
+      EXPECT_FALSE(p.IsValid(&error)) << c.message << " at " << value;
+      EXPECT_EQ(error.rfind(c.message, 0), 0u) << error;
+    }
+  }
+}
+
 // [controller.velocity_control] keys: read, in degrees at the edge, errors naming file, line, key.
 // The walker suite with `keys` in [defaults.controller.velocity_control] (line 12).
 class VelocityControlKeysTest : public testing::WalkerKeysTest {

@@ -2,14 +2,37 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <stdexcept>
 
 namespace rabbit {
 
 bool VelocityControlParams::IsValid(std::string* error) const {
-  if (!(std::isfinite(v_d_rate) && v_d_rate >= 0.0 && v_d_rate <= 3.0)) {
-    *error = "velocity_control.v_d_rate must be in [0, 3] m/s per step (0: no limit)";
-    return false;
+  // Each key's range and the unit its message gives it.
+  struct Range {
+    const char* key;
+    double value, lo, hi;
+    const char* unit;
+  };
+  const Range ranges[] = {
+      {"v_d_rate", v_d_rate, 0.0, 3.0, " m/s per step (0: no limit)"},
+      {"feedforward_gain", feedforward_gain, 0.0, 2.0, ""},
+      {"gait_shift_gain", gait_shift_gain, 0.0, 10.0, " m/s per rad"},
+      {"gait_shift_max", gait_shift_max, 0.0, 0.5, " m/s"},
+      {"gait_shift_below", gait_shift_below, 0.0, 3.0, " m/s"},
+      {"v_d_rate_down", v_d_rate_down, 0.0, 3.0, " m/s per step (0: v_d_rate)"},
+      {"v_d_rate_down_below", v_d_rate_down_below, 0.0, 3.0, " m/s"},
+      {"drop_min", drop_min, 0.0, 3.0, " m/s"},
+      {"drop_gap", drop_gap, 0.0, 3.0, " m/s"},
+  };
+  for (const Range& r : ranges) {
+    if (!(std::isfinite(r.value) && r.value >= r.lo && r.value <= r.hi)) {
+      char text[160];
+      std::snprintf(text, sizeof text, "velocity_control.%s must be in [%g, %g]%s", r.key, r.lo,
+                    r.hi, r.unit);
+      *error = text;
+      return false;
+    }
   }
   for (const auto& [v, q] : pitch_map) {
     if (!(std::isfinite(v) && std::isfinite(q) && v >= 0.0 && v < 3.0 && std::abs(q) < M_PI / 4)) {
@@ -17,39 +40,6 @@ bool VelocityControlParams::IsValid(std::string* error) const {
           "velocity_control.pitch_map_deg: each point needs V in [0, 3) m/s and |q0_d| < 45 deg";
       return false;
     }
-  }
-  if (!(std::isfinite(feedforward_gain) && feedforward_gain >= 0.0 && feedforward_gain <= 2.0)) {
-    *error = "velocity_control.feedforward_gain must be in [0, 2]";
-    return false;
-  }
-  if (!(std::isfinite(gait_shift_gain) && gait_shift_gain >= 0.0 && gait_shift_gain <= 10.0)) {
-    *error = "velocity_control.gait_shift_gain must be in [0, 10] m/s per rad";
-    return false;
-  }
-  if (!(std::isfinite(gait_shift_max) && gait_shift_max >= 0.0 && gait_shift_max <= 0.5)) {
-    *error = "velocity_control.gait_shift_max must be in [0, 0.5] m/s";
-    return false;
-  }
-  if (!(std::isfinite(gait_shift_below) && gait_shift_below >= 0.0 && gait_shift_below <= 3.0)) {
-    *error = "velocity_control.gait_shift_below must be in [0, 3] m/s";
-    return false;
-  }
-  if (!(std::isfinite(v_d_rate_down) && v_d_rate_down >= 0.0 && v_d_rate_down <= 3.0)) {
-    *error = "velocity_control.v_d_rate_down must be in [0, 3] m/s per step (0: v_d_rate)";
-    return false;
-  }
-  if (!(std::isfinite(v_d_rate_down_below) && v_d_rate_down_below >= 0.0 &&
-        v_d_rate_down_below <= 3.0)) {
-    *error = "velocity_control.v_d_rate_down_below must be in [0, 3] m/s";
-    return false;
-  }
-  if (!(std::isfinite(drop_min) && drop_min >= 0.0 && drop_min <= 3.0)) {
-    *error = "velocity_control.drop_min must be in [0, 3] m/s";
-    return false;
-  }
-  if (!(std::isfinite(drop_gap) && drop_gap >= 0.0 && drop_gap <= 3.0)) {
-    *error = "velocity_control.drop_gap must be in [0, 3] m/s";
-    return false;
   }
   if (!(drop_no_raise >= 0 && drop_no_raise <= 100)) {
     *error = "velocity_control.drop_no_raise must be in [0, 100] touchdowns";
