@@ -7,26 +7,26 @@
 
 namespace rabbit {
 
+const std::vector<VelocityControlRange>& VelocityControlRanges() {
+  using P = VelocityControlParams;
+  static const std::vector<VelocityControlRange> ranges = {
+      {"v_d_rate", &P::v_d_rate, 0.0, 3.0, " m/s per step (0: no limit)"},
+      {"feedforward_gain", &P::feedforward_gain, 0.0, 2.0, ""},
+      {"gait_shift_gain", &P::gait_shift_gain, 0.0, 10.0, " m/s per rad"},
+      {"gait_shift_max", &P::gait_shift_max, 0.0, 0.5, " m/s"},
+      {"gait_shift_below", &P::gait_shift_below, 0.0, 3.0, " m/s"},
+      {"v_d_rate_down", &P::v_d_rate_down, 0.0, 3.0, " m/s per step (0: v_d_rate)"},
+      {"v_d_rate_down_below", &P::v_d_rate_down_below, 0.0, 3.0, " m/s"},
+      {"drop_min", &P::drop_min, 0.0, 3.0, " m/s"},
+      {"drop_gap", &P::drop_gap, 0.0, 3.0, " m/s"},
+  };
+  return ranges;
+}
+
 bool VelocityControlParams::IsValid(std::string* error) const {
-  // Each key's range and the unit its message gives it.
-  struct Range {
-    const char* key;
-    double value, lo, hi;
-    const char* unit;
-  };
-  const Range ranges[] = {
-      {"v_d_rate", v_d_rate, 0.0, 3.0, " m/s per step (0: no limit)"},
-      {"feedforward_gain", feedforward_gain, 0.0, 2.0, ""},
-      {"gait_shift_gain", gait_shift_gain, 0.0, 10.0, " m/s per rad"},
-      {"gait_shift_max", gait_shift_max, 0.0, 0.5, " m/s"},
-      {"gait_shift_below", gait_shift_below, 0.0, 3.0, " m/s"},
-      {"v_d_rate_down", v_d_rate_down, 0.0, 3.0, " m/s per step (0: v_d_rate)"},
-      {"v_d_rate_down_below", v_d_rate_down_below, 0.0, 3.0, " m/s"},
-      {"drop_min", drop_min, 0.0, 3.0, " m/s"},
-      {"drop_gap", drop_gap, 0.0, 3.0, " m/s"},
-  };
-  for (const Range& r : ranges) {
-    if (!(std::isfinite(r.value) && r.value >= r.lo && r.value <= r.hi)) {
+  for (const VelocityControlRange& r : VelocityControlRanges()) {
+    const double value = this->*r.field;
+    if (!(std::isfinite(value) && value >= r.lo && value <= r.hi)) {
       char text[160];
       std::snprintf(text, sizeof text, "velocity_control.%s must be in [%g, %g]%s", r.key, r.lo,
                     r.hi, r.unit);

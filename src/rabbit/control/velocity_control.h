@@ -94,6 +94,17 @@ struct VelocityControlParams {
   bool IsValid(std::string* error) const;
 };
 
+// A key of VelocityControlParams with a closed range: its name (under velocity_control), its
+// member, the range and the unit its message gives it. IsValid and the scenario's key reader both
+// check these, so a range is written once.
+struct VelocityControlRange {
+  const char* key;
+  double VelocityControlParams::*field;
+  double lo, hi;
+  const char* unit;  // appended to "must be in [lo, hi]"
+};
+const std::vector<VelocityControlRange>& VelocityControlRanges();
+
 // The reference gaits' trunk pitch against speed, non-decreasing (see above).
 class PitchMap {
  public:

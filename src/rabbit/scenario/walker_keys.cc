@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstdint>
 #include <filesystem>
 #include <map>
@@ -217,37 +218,16 @@ void ReadRecovery(TomlReader r, RecoveryParams* p) {
 // [controller.velocity_control]: the walker's speed transitions (velocity_control.h).
 void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
   p->enabled = r.Bool("enabled", p->enabled);
-  p->v_d_rate = r.Double("v_d_rate", p->v_d_rate);
-  if (!(p->v_d_rate >= 0.0 && p->v_d_rate <= 3.0)) r.Fail("v_d_rate", "must be in [0, 3] m/s");
-  p->feedforward_gain = r.Double("feedforward_gain", p->feedforward_gain);
-  if (!(p->feedforward_gain >= 0.0 && p->feedforward_gain <= 2.0)) {
-    r.Fail("feedforward_gain", "must be in [0, 2]");
-  }
   p->start_at_map = r.Bool("start_at_map", p->start_at_map);
-  p->gait_shift_gain = r.Double("gait_shift_gain", p->gait_shift_gain);
-  if (!(p->gait_shift_gain >= 0.0 && p->gait_shift_gain <= 10.0)) {
-    r.Fail("gait_shift_gain", "must be in [0, 10] m/s per rad");
+  for (const VelocityControlRange& range : VelocityControlRanges()) {
+    double& value = p->*range.field;
+    value = r.Double(range.key, value);
+    if (!(value >= range.lo && value <= range.hi)) {
+      char text[120];
+      std::snprintf(text, sizeof text, "must be in [%g, %g]%s", range.lo, range.hi, range.unit);
+      r.Fail(range.key, text);
+    }
   }
-  p->gait_shift_max = r.Double("gait_shift_max", p->gait_shift_max);
-  if (!(p->gait_shift_max >= 0.0 && p->gait_shift_max <= 0.5)) {
-    r.Fail("gait_shift_max", "must be in [0, 0.5] m/s");
-  }
-  p->gait_shift_below = r.Double("gait_shift_below", p->gait_shift_below);
-  if (!(p->gait_shift_below >= 0.0 && p->gait_shift_below <= 3.0)) {
-    r.Fail("gait_shift_below", "must be in [0, 3] m/s");
-  }
-  p->v_d_rate_down = r.Double("v_d_rate_down", p->v_d_rate_down);
-  if (!(p->v_d_rate_down >= 0.0 && p->v_d_rate_down <= 3.0)) {
-    r.Fail("v_d_rate_down", "must be in [0, 3] m/s per step (0: v_d_rate)");
-  }
-  p->v_d_rate_down_below = r.Double("v_d_rate_down_below", p->v_d_rate_down_below);
-  if (!(p->v_d_rate_down_below >= 0.0 && p->v_d_rate_down_below <= 3.0)) {
-    r.Fail("v_d_rate_down_below", "must be in [0, 3] m/s");
-  }
-  p->drop_min = r.Double("drop_min", p->drop_min);
-  if (!(p->drop_min >= 0.0 && p->drop_min <= 3.0)) r.Fail("drop_min", "must be in [0, 3] m/s");
-  p->drop_gap = r.Double("drop_gap", p->drop_gap);
-  if (!(p->drop_gap >= 0.0 && p->drop_gap <= 3.0)) r.Fail("drop_gap", "must be in [0, 3] m/s");
   p->drop_no_raise = static_cast<int>(r.Integer("drop_no_raise", p->drop_no_raise, 0, 100));
   const std::string law = r.String("law", p->law == VelocityLaw::kStepMap ? "step_map" : "chapter");
   if (law != "chapter" && law != "step_map") r.Fail("law", "expected \"chapter\" or \"step_map\"");
