@@ -135,6 +135,7 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
       warmup_(params.warmup, stance_leg),
       recovery_(params.recovery),
       response_(params.recovery),
+      watch_(params.planner.enabled ? params.planner.push_dead : 0.0),
       slope_(params.slope),
       stall_(params.stall_recovery),
       terrain_steps_(params.steps),
@@ -190,9 +191,9 @@ StepPlan FuzzyCmacWalker::PlanNextStep(const Observation& obs, const StepRecord&
                                        double d_obs) {
   const StepPlannerParams& pp = p_.planner;
   // A step that landed behind (a backward step after a push) was no attempt at the plan: it
-  // does not feed the bias.
+  // does not feed the bias; nor does a step a push disturbed before an obstacle (push_dead).
   if (planner_target_ >= 0.0 && step.t_step > 0.0 && step.l_step > 0.0 &&
-      (pp.over_feedback || !planner_after_over_)) {
+      (pp.over_feedback || !planner_after_over_) && (planner_face_ || !watch_.last_disturbed())) {
     planner_bias_ = std::clamp(planner_bias_ + pp.feedback_gain * (step.l_step - planner_target_),
                                -pp.bias_max, pp.bias_max);
   }
@@ -208,7 +209,8 @@ StepPlan FuzzyCmacWalker::PlanNextStep(const Observation& obs, const StepRecord&
   double face_length = 0.0;
   const double face = terrain_steps_.FaceAhead(*obs.terrain, front, pp.horizon, pp.margin_before,
                                                pp.margin_after, &face_length);
-  if (face < obs.terrain->DistanceToNextObstacle(front)) length = face_length;
+  planner_face_ = face < obs.terrain->DistanceToNextObstacle(front);
+  if (planner_face_) length = face_length;
   if (pp.follow_gait && d_obs <= pp.horizon && planner_l_gait_ < 0.0) FreezeGait();
   const StepPlannerParams ep = FollowGait(pp, planner_l_gait_ < 0.0 ? NAN : planner_l_gait_);
   StepPlan plan = PlanStep(ep, d_obs, length);
@@ -317,6 +319,7 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
       TerrainSpeedCommand(obs.terrain, slope_, p_.planner, terrain_steps_, v_d, landing, other_foot),
       v_m_, v_d);
   response_.Command(v_c, level);
+  watch_.Command(v_c, level);
   choice_.OnCommand(v_c);
   const bool hold_pitch = pitch_hold_left_ > 0;  // planner.hold_pitch_steps after a step over
   if (hold_pitch) --pitch_hold_left_;
@@ -510,6 +513,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
       rules_until_ = -1;
     }
     response_.OnTouchdown(obs.t, meter_.last_step().t_step);
+    watch_.OnTouchdown(obs.t, meter_.last_step().t_step);
     OnTouchdown(obs);
     recovery_.OnTouchdown(obs.t, meter_.last_step().t_step);
   }
@@ -518,6 +522,9 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   if (response_.Observe(obs.t, recovery_.v_orb(), !warming_up_ && !planned_ && !lift_armed_)) {
     SetContext(fis_v_ + response_.FisOffset(), fis_d_obs_);
   }
+  // The approach watch: the walker's own steps, neither the step over nor the steps after it.
+  watch_.Observe(obs.t, recovery_.v_orb(),
+                 !warming_up_ && !lift_armed_ && recovery_left_ == 0 && pitch_hold_left_ == 0);
   if (!warming_up_ && response_.TakesRules()) {
     warmup_.Restart(swing_start_, stance_);
     warming_up_ = true;

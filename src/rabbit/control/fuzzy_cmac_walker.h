@@ -28,6 +28,7 @@
 #include <utility>
 #include <vector>
 
+#include "rabbit/control/approach_watch.h"
 #include "rabbit/control/foot_lift.h"
 #include "rabbit/control/gait_meter.h"
 #include "rabbit/control/pragmatic_rules.h"
@@ -205,6 +206,7 @@ class FuzzyCmacWalker final : public Controller {
   PragmaticController warmup_;
   PushRecovery recovery_;
   PushResponse response_;  // its response to a large disturbance (push_response.h)
+  ApproachWatch watch_;    // a push while the step planner plans (approach_watch.h)
   double fis_v_ = 0.0, fis_d_obs_ = 0.0;  // the fuzzy system's inputs at the last touchdown
   bool planned_ = false;                  // the planner set the coming step's weights
   int rules_until_ = -1;  // the response's rules walk until this many steps (-1: not theirs)
@@ -237,6 +239,7 @@ class FuzzyCmacWalker final : public Controller {
   double planner_target_ = -1.0;       // planner: the last planned step's target (-1: none)
   int recovery_left_ = 0;              // planner: nominal steps still to take after a step over
   bool planner_after_over_ = false;    // planner: the coming step is the step over or after it
+  bool planner_face_ = false;  // the last plan was for a step's face, not an obstacle
   int pitch_hold_left_ = 0;            // planner: touchdowns still to leave q0_d unchanged
   double planner_l_gait_ = -1.0;       // planner.follow_gait: the measured step (-1: none), m
   double planner_l_db_ = 0.0;          // planner.follow_gait: its gait's database step, m

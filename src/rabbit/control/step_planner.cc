@@ -33,6 +33,10 @@ bool StepPlannerParams::IsValid(std::string* error) const {
     *error = "planner.approach_speed must be in [0, 2] m/s";
     return false;
   }
+  if (!(std::isfinite(push_dead) && push_dead >= 0.0 && push_dead <= 2.0)) {
+    *error = "planner.push_dead must be in [0, 2] m/s";
+    return false;
+  }
   if (!(std::isfinite(approach_distance) && approach_distance >= 0.0 &&
         approach_distance <= 100.0)) {
     *error = "planner.approach_distance must be in [0, 100] m";

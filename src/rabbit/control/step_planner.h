@@ -94,6 +94,10 @@ struct StepPlannerParams {
   // least approach_speed, the speed whose steps the lengths above are (0: off; ApproachSpeed).
   double approach_speed = 0.0;     // m/s
   double approach_distance = 2.5;  // m
+  // A push on the approach (approach_watch.h): a step whose pendulum speed v_orb leaves the same
+  // leg's last undisturbed step's by more than push_dead (m/s) in a phase bin was disturbed, and
+  // its length error does not feed the bias above (0: off, every planned step feeds it).
+  double push_dead = 0.0;  // m/s
   bool IsValid(std::string* error) const;
 };
 

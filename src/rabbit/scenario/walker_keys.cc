@@ -326,6 +326,7 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
     pp.follow_lengthen = pt.Double("follow_lengthen", pp.follow_lengthen);
     pp.approach_speed = pt.Double("approach_speed", pp.approach_speed);
     pp.approach_distance = pt.Double("approach_distance", pp.approach_distance);
+    pp.push_dead = pt.Double("push_dead", pp.push_dead);
     pt.Finish();
     std::string planner_error;
     if (!pp.IsValid(&planner_error)) {
