@@ -86,6 +86,11 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // other families unchanged run by run; on scenarios/train/speed.toml 122 of 180 against
       // 112 (docs/design.md, "Velocity control").
       w.rule_gait_choice = true;
+      // ... and between the rule-walked 0.3 and the tracked 0.4 m/s gait, in place of the gait
+      // shift while the command holds: robustness_train.toml 519 of 640 against 516,
+      // speed_commands 30 of 40 against 27, every other family unchanged run by run;
+      // scenarios/train/speed.toml 132 of 180 against 129 (docs/design.md, "Velocity control").
+      w.rule_gait_choice_mixed_below = 0.45;
       // Steps and platforms: 51 of 120 training members (scenarios/train/steps.toml) against 4
       // without (docs/design.md, "Steps and platforms").
       w.steps.enabled = true;
