@@ -1,6 +1,7 @@
 // The choice between two neighbouring rule-walked gaits (rule_gait_choice.h): the nearer gait
-// between two rule-walked ones, the input unchanged elsewhere, the choice only while the command
-// holds, and the walker key rule_gait_choice (on in the adaptive preset, off in the chapter's).
+// between two rule-walked ones (and, below rule_gait_choice_mixed_below, next to a tracked one),
+// the input unchanged elsewhere, the choice only while the command holds, and the walker keys
+// rule_gait_choice and rule_gait_choice_mixed_below (adaptive preset against the chapter's).
 #include "rabbit/control/rule_gait_choice.h"
 
 #include <gtest/gtest.h>
@@ -69,6 +70,23 @@ TEST(RuleGaitChoiceTest, OnlyWhileTheCommandHolds) {
   EXPECT_DOUBLE_EQ(choice.Input(0.83), 0.81);
 }
 
+// mixed_below: between a rule-walked and a tracked neighbour the nearer gait too, where the
+// faster of the two is below it; elsewhere as without.
+TEST(RuleGaitChoiceTest, MixedPairsBelowALimit) {
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.33, kSpeeds, kShare, 0.45), 0.30);
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.36, kSpeeds, kShare, 0.45), 0.39);
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.33, kSpeeds, kShare, 0.0), 0.33);   // off
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.33, kSpeeds, kShare, 0.39), 0.33);  // 0.39 is not below
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.45, kSpeeds, kShare, 0.45), 0.45);  // two tracked gaits
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.75, kSpeeds, kShare, 0.45), 0.75);  // 0.81 is above
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.74, kSpeeds, kShare, 0.85), 0.69);
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.84, kSpeeds, kShare, 0.45), 0.81);  // rule-walked pairs
+  RuleGaitChoice choice(true, Pitches(), kShare, 0.45);
+  choice.OnCommand(0.33);
+  choice.OnCommand(0.33);
+  EXPECT_DOUBLE_EQ(choice.Input(0.33), 0.30);
+}
+
 TEST(RuleGaitChoiceTest, OffIsTheInputAsItIs) {
   RuleGaitChoice choice(false, Pitches(), kShare);
   choice.OnCommand(0.86);
@@ -104,6 +122,18 @@ TEST_F(RuleGaitChoiceKeysTest, ReadAndValidated) {
                    .walker.rule_gait_choice);
   ExpectSuiteError(Suite("rule_gait_choice = 1\n"), 9, "scenario[1].controller.rule_gait_choice",
                    "");
+  EXPECT_DOUBLE_EQ(LoadSuite(Write(Suite(""))).scenarios[0].walker.rule_gait_choice_mixed_below,
+                   0.45);  // adaptive
+  EXPECT_DOUBLE_EQ(LoadSuite(Write(Suite("preset = \"chapter\"\n")))
+                       .scenarios[0]
+                       .walker.rule_gait_choice_mixed_below,
+                   0.0);
+  EXPECT_DOUBLE_EQ(LoadSuite(Write(Suite("rule_gait_choice_mixed_below = 0.6\n")))
+                       .scenarios[0]
+                       .walker.rule_gait_choice_mixed_below,
+                   0.6);
+  ExpectSuiteError(Suite("rule_gait_choice_mixed_below = -0.1\n"), 9,
+                   "scenario[1].controller.rule_gait_choice_mixed_below", "must be in [0, 3]");
 }
 
 }  // namespace

@@ -103,6 +103,45 @@ TEST(VelocityControlTest, RateLimitAndFeedForward) {
   EXPECT_NEAR(c.Command(0.75), 0.75, kTolerance);  // within the rate: at once
 }
 
+// feedforward_rise_extra: a rise of V_c leans by (feedforward_gain + extra) times the map's
+// change, a fall by feedforward_gain alone; 0 is the shared gain both ways.
+TEST(VelocityControlTest, RiseExtraFeedForward) {
+  VelocityControlParams p;
+  p.enabled = true;
+  p.v_d_rate = 0.1;
+  p.feedforward_gain = 0.5;
+  p.feedforward_rise_extra = 0.25;
+  p.start_at_map = false;
+  const PitchMap map({{0.4, 0.0}, {0.8, 0.2}});  // 0.5 rad per m/s
+  const double k_p = 0.2;
+  VelocityControl c(p, k_p, 0.0, -0.1, 0.45, 0.05, map);
+  c.Command(0.4);
+  EXPECT_NEAR(c.Update(0.4, 0.5), 0.05, kTolerance);
+  // Up by 0.1: + K_P (0.5 - 0.4) + 0.75 (P(0.5) - P(0.4)).
+  EXPECT_NEAR(c.Command(0.8), 0.5, kTolerance);
+  double q = 0.05 + k_p * 0.1 + 0.75 * 0.05;
+  EXPECT_NEAR(c.Update(0.4, 0.5), q, kTolerance);
+  // Down by 0.1: + K_P (0.4 - 0.4) + 0.5 (P(0.4) - P(0.5)).
+  EXPECT_NEAR(c.Command(0.3), 0.4, kTolerance);
+  q += 0.5 * -0.05;
+  EXPECT_NEAR(c.Update(0.4, 0.5), q, kTolerance);
+  // Without the extra the same rise leans by the shared gain.
+  p.feedforward_rise_extra = 0.0;
+  VelocityControl d(p, k_p, 0.0, -0.1, 0.45, 0.05, map);
+  d.Command(0.4);
+  d.Update(0.4, 0.5);
+  d.Command(0.8);
+  EXPECT_NEAR(d.Update(0.4, 0.5), 0.05 + k_p * 0.1 + 0.5 * 0.05, kTolerance);
+  // A rise of the terrain's command over a profile that holds (an obstacle's approach speed) is
+  // no rise of the profile: the shared gain.
+  p.feedforward_rise_extra = 0.25;
+  VelocityControl e(p, k_p, 0.0, -0.1, 0.45, 0.05, map);
+  e.Command(0.4, 0.4, 0.4);
+  e.Update(0.4, 0.5);
+  EXPECT_NEAR(e.Command(0.8, 0.4, 0.4), 0.5, kTolerance);
+  EXPECT_NEAR(e.Update(0.4, 0.5), 0.05 + k_p * 0.1 + 0.5 * 0.05, kTolerance);
+}
+
 TEST(VelocityControlTest, StartsAtTheMap) {
   VelocityControlParams p;
   p.enabled = true;
@@ -144,6 +183,8 @@ TEST(VelocityControlTest, EachRangedKeyIsCheckedAtBothEnds) {
        0.0, 3.0},
       {"velocity_control.feedforward_gain must be in [0, 2]",
        &VelocityControlParams::feedforward_gain, 0.0, 2.0},
+      {"velocity_control.feedforward_rise_extra must be in [0, 2]",
+       &VelocityControlParams::feedforward_rise_extra, 0.0, 2.0},
       {"velocity_control.gait_shift_gain must be in [0, 10] m/s per rad",
        &VelocityControlParams::gait_shift_gain, 0.0, 10.0},
       {"velocity_control.gait_shift_max must be in [0, 0.5] m/s",
@@ -199,6 +240,8 @@ TEST_F(VelocityControlKeysTest, ReadAndValidated) {
   ExpectError("v_d_rate = -1.0\n", "scenario[1].controller.velocity_control.v_d_rate");
   ExpectError("feedforward_gain = 3.0\n",
               "scenario[1].controller.velocity_control.feedforward_gain");
+  ExpectError("feedforward_rise_extra = -0.5\n",
+              "scenario[1].controller.velocity_control.feedforward_rise_extra");
   ExpectError("pitch_map_deg = [[0.4, 60.0]]\n",
               "scenario[1].controller.velocity_control.pitch_map_deg");
   ExpectError("enabld = true\n", "scenario[1].controller.velocity_control.enabld");

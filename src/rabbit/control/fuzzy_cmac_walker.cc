@@ -148,7 +148,8 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
           params.q0_d_initial,
           PitchMap(params.velocity_control.pitch_map.empty() ? params.gait_pitches
                                                              : params.velocity_control.pitch_map)),
-      choice_(params.rule_gait_choice, params.gait_pitches, params.rule_share),
+      choice_(params.rule_gait_choice, params.gait_pitches, params.rule_share,
+              params.rule_gait_choice_mixed_below),
       rng_(CmacMix64(params.seed)) {
   std::string error;
   if (!p_.IsValid(&error)) throw std::invalid_argument("walker: " + error);
@@ -336,7 +337,10 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     d_noise = p_.d_obs_noise * Gaussian();
     d_obs = std::clamp(d_obs + d_noise, 0.0, p_.d_obs_max);
   }
-  fis_v_ = v_m_ + p_.fis_v_lead * (v_c - v_m_) + slope_.FisVelocityOffset() + speed_.FisOffset();
+  // Below rule_gait_choice_mixed_below the choice takes the gait shift's place while V_c holds.
+  const bool choice_shift = choice_.holding() && v_c < p_.rule_gait_choice_mixed_below;
+  fis_v_ = v_m_ + p_.fis_v_lead * (v_c - v_m_) + slope_.FisVelocityOffset() +
+           (choice_shift ? 0.0 : speed_.FisOffset());
   fis_d_obs_ = d_obs;
   SetContext(fis_v_ + response_.FisOffset(), d_obs);
   StepPlan plan;

@@ -84,6 +84,9 @@ struct WalkerParams {
   // moves to the nearer one's speed, the speeds being gait_pitches' (rule_gait_choice.h; false:
   // the input as it is, the blend of both).
   bool rule_gait_choice = false;
+  // With rule_gait_choice, the choice acts also between a rule-walked and a tracked neighbour
+  // whose faster gait is below this speed (m/s in [0, 3]; 0: off).
+  double rule_gait_choice_mixed_below = 0.0;
   // Per reference gait, in the gait pattern's order (filled from the gait database, not a key).
   std::vector<PragmaticParams> gait_rules;
   // Perception.

@@ -14,7 +14,10 @@
 // before): while V_c moves (a ramp, or the rate limit after a step of V_d) the blend carries the
 // pattern from one gait to the next, as a jump from the 0.9 to the 0.8 m/s gait in a ramp down
 // leaves the robot at the faster gait's speed on the slower gait's pattern, and the tracked gait
-// that joins next takes a long step.
+// that joins next takes a long step. With mixed_below the choice acts also between a rule-walked
+// and a tracked neighbour below that speed (on the shipped database the 0.3 and 0.4 m/s gaits,
+// whose blend walks faster than either); the walker then leaves out the gait shift there while
+// the command holds.
 #ifndef RABBIT_CONTROL_RULE_GAIT_CHOICE_H_
 #define RABBIT_CONTROL_RULE_GAIT_CHOICE_H_
 
@@ -26,8 +29,10 @@ namespace rabbit {
 // v: the gait pattern's velocity input (m/s); speeds: the reference gaits' speeds (the gait
 // pattern's centres, m/s) and rule_share their shares, both in the gait pattern's order (the
 // speeds need not be sorted; unequal sizes or an empty share leave v unchanged).
+// Below mixed_below (m/s; 0: never) the choice acts also between a rule-walked and a tracked
+// neighbour, where the faster of the two is below it.
 double ChooseRuleGait(double v, const std::vector<double>& speeds,
-                      const std::vector<double>& rule_share);
+                      const std::vector<double>& rule_share, double mixed_below = 0.0);
 
 // The walker's choice: ChooseRuleGait while the command holds, the input as it is otherwise.
 class RuleGaitChoice {
@@ -37,17 +42,18 @@ class RuleGaitChoice {
   // the gait pattern's order; enabled with a share per gait but not a speed per gait throws
   // std::invalid_argument.
   RuleGaitChoice(bool enabled, const std::vector<std::pair<double, double>>& gait_pitches,
-                 std::vector<double> rule_share);
+                 std::vector<double> rule_share, double mixed_below = 0.0);
   // At each touchdown: the command V_c of the coming step.
   void OnCommand(double v_c);
   // The gait pattern's velocity input after the choice.
   double Input(double v) const {
-    return enabled_ && holding_ ? ChooseRuleGait(v, speeds_, rule_share_) : v;
+    return enabled_ && holding_ ? ChooseRuleGait(v, speeds_, rule_share_, mixed_below_) : v;
   }
   bool holding() const { return holding_; }
 
  private:
   bool enabled_ = false;
+  double mixed_below_ = 0.0;
   std::vector<double> speeds_, rule_share_;
   bool have_command_ = false, holding_ = false;
   double last_command_ = 0.0;

@@ -12,6 +12,7 @@ const std::vector<VelocityControlRange>& VelocityControlRanges() {
   static const std::vector<VelocityControlRange> ranges = {
       {"v_d_rate", &P::v_d_rate, 0.0, 3.0, " m/s per step (0: no limit)"},
       {"feedforward_gain", &P::feedforward_gain, 0.0, 2.0, ""},
+      {"feedforward_rise_extra", &P::feedforward_rise_extra, 0.0, 2.0, ""},
       {"gait_shift_gain", &P::gait_shift_gain, 0.0, 10.0, " m/s per rad"},
       {"gait_shift_max", &P::gait_shift_max, 0.0, 0.5, " m/s"},
       {"gait_shift_below", &P::gait_shift_below, 0.0, 3.0, " m/s"},
@@ -112,6 +113,7 @@ double VelocityControl::Command(double v_d, double v_m, double v_profile) {
   // The command's own profile (v_d when not given): a drop starts only where it steps down.
   const double source = std::isfinite(v_profile) ? v_profile : v_d;
   const bool stepped_down = have_command_ && source < last_source_ - p_.drop_min;
+  const bool stepped_up = have_command_ && source > last_source_;
   last_source_ = source;
   if (!p_.enabled || !have_command_) {
     v_c_ = v_d;
@@ -136,7 +138,17 @@ double VelocityControl::Command(double v_d, double v_m, double v_profile) {
   }
   if (since_drop_ >= 0) ++since_drop_;
   if (dropping_ && next < v_c_) since_drop_ = 0;
-  pending_ff_ += p_.feedforward_gain * (map_.At(next) - map_.At(v_c_));
+  // A rise: from a touchdown where the profile stepped up, while V_c is below V_d and V_d is the
+  // profile's own (no slope, obstacle or step command); its increases of V_c lean by
+  // feedforward_rise_extra more.
+  if (v_d <= v_c_ || v_d != source) {
+    rising_ = false;
+  } else if (stepped_up) {
+    rising_ = true;
+  }
+  const double ff_gain =
+      p_.feedforward_gain + (rising_ && next > v_c_ ? p_.feedforward_rise_extra : 0.0);
+  pending_ff_ += ff_gain * (map_.At(next) - map_.At(v_c_));
   v_c_ = next;
   return v_c_;
 }

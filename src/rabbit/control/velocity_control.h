@@ -43,6 +43,13 @@
 // not answered by a lean forward that throws the robot past the new speed) (docs/design.md,
 // "Velocity control").
 //
+// Rises (enabled only). A rise starts at a touchdown where the speed profile's V_d has stepped up
+// since the previous one, with V_d above V_c and no slope, obstacle or step command moving it
+// (V_d is the profile's own), and lasts while that holds; in a rise the feed-forward of each
+// increase of V_c uses feedforward_gain + feedforward_rise_extra: the gait blends walked at
+// 0.55-0.8 m/s need a few degrees more pitch than the gaits' map gives (docs/design.md,
+// "Velocity control").
+//
 // With law = kStepMap the feedback law above gives way to the identified step-to-step map
 // (step_map_control.h), which chooses q0_d at each update; the rate limit still applies.
 #ifndef RABBIT_CONTROL_VELOCITY_CONTROL_H_
@@ -66,6 +73,8 @@ struct VelocityControlParams {
   // Defaults: the best of the variants measured on the training families (docs/design.md).
   double v_d_rate = 0.1;          // m/s per step: the largest change of V_c at a touchdown
   double feedforward_gain = 0.5;  // share of the map's pitch change applied at once
+  // Added to feedforward_gain where V_c rises (0: the same share both ways, bit for bit).
+  double feedforward_rise_extra = 0.0;
   // The map P as (V in m/s, q0_d in rad) points (made non-decreasing); empty: the reference
   // gaits' (measured V_M, q0_d) from the gait database.
   std::vector<std::pair<double, double>> pitch_map;
@@ -161,6 +170,7 @@ class VelocityControl {
   bool have_error_ = false;
   bool started_ = false;      // the first update has been made
   bool dropping_ = false;     // a drop is under way
+  bool rising_ = false;       // a rise of the profile's own V_d is under way
   double last_source_ = 0.0;  // the profile's V_d at the previous call
   int since_drop_ = -1;       // touchdowns since V_c last decreased (-1: never)
   double excess_ = 0.0;       // gait shift: the effort u below the q0_d floor, u - q0_d (rad, <= 0)

@@ -273,6 +273,11 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   w.d_obs_max = t->Double("d_obs_max", w.d_obs_max);
   w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
   w.rule_gait_choice = t->Bool("rule_gait_choice", w.rule_gait_choice);
+  w.rule_gait_choice_mixed_below =
+      t->Double("rule_gait_choice_mixed_below", w.rule_gait_choice_mixed_below);
+  if (!(w.rule_gait_choice_mixed_below >= 0.0 && w.rule_gait_choice_mixed_below <= 3.0)) {
+    t->Fail("rule_gait_choice_mixed_below", "must be in [0, 3] m/s");
+  }
   w.lift.clearance = t->Double("lift_clearance", w.lift.clearance);
   w.lift.height_gain = t->Double("lift_height_gain", w.lift.height_gain);
   w.lift.d_obs = t->Double("lift_d_obs", w.lift.d_obs);
