@@ -375,5 +375,46 @@ TEST(FuzzyCmacWalkerTest, InvalidParametersAreRefused) {
   EXPECT_THROW(FuzzyCmacWalker(p, without, VelocityProfile{}, 0), std::invalid_argument);
 }
 
+// lift_release_rate: while the obstacle lift offsets the swing references, their rates are the
+// lifted references' own. With a constant pattern and a still robot the lifted references do not
+// move, so the swing's rate references are 0 instead of the pattern's rates: the swing torques
+// differ by kd times those rates; without an obstacle (no lift) the walker is the same.
+TEST(FuzzyCmacWalkerTest, TheLiftedReferencesRatesAreTheirOwnWithAReleaseRate) {
+  Terrain terrain;
+  terrain.obstacles = {{0.0, 0.1, 0.05}};  // between the feet at the 0.6 s touchdown: lift armed
+  Terrain flat;
+  for (const Terrain* t : {&terrain, &flat}) {
+    std::vector<Vec4> tau[2];
+    for (int on = 0; on < 2; ++on) {
+      WalkerParams p;
+      p.warmup_steps = 0;
+      p.v_m_initial = 0.6;
+      p.lift.release_rate = on ? 7.0 : 0.0;
+      FuzzyCmacWalker walker(p, ConstantPattern(), VelocityProfile{}, 0);
+      for (int k = 0; k <= 800; ++k) {
+        const double time = k * 1e-3;
+        const bool air1 = time >= 0.1 - 1e-9 && time < 0.6 - 1e-9;
+        const bool air0 = time >= 0.7 - 1e-9;  // leg 0 swings from 0.7 s, behind the obstacle
+        Observation obs = Standing(time, !air0, !air1, -0.1, time < 0.6 - 1e-9 ? -0.1 : 0.2);
+        obs.terrain = t;
+        tau[on].push_back(walker.Compute(obs));
+      }
+    }
+    for (int k = 0; k < 700; ++k) EXPECT_EQ(tau[0][k], tau[1][k]) << k;  // before the swing
+    // The swing's first lifted period (no previous one): as without the key.
+    EXPECT_EQ(tau[0][700], tau[1][700]);
+    for (int k = 701; k <= 800; k += 33) {
+      if (t == &flat) {
+        EXPECT_EQ(tau[0][k], tau[1][k]) << k;
+      } else {
+        // Swing leg 0: hip tau[0], knee tau[1]; the pattern's rates (0.5 w, -0.2 w; k = 3: 1.5
+        // and -0.6 rad/s, the hip's 0.1 more in the thigh frame) are replaced by 0.
+        EXPECT_NEAR(tau[0][k][0] - tau[1][k][0], 25.0 * 1.6, 1e-6) << k;  // hip_kd 25
+        EXPECT_NEAR(tau[0][k][1] - tau[1][k][1], 20.0 * -0.6, 1e-6) << k;  // knee_kd 20
+      }
+    }
+  }
+}
+
 }  // namespace
 }  // namespace rabbit

@@ -1,20 +1,18 @@
 // The walker's slope adaptation (slope_adaptation.h): the grade of two contact points against the
 // terrain's own ground profile, the filter's convergence against its closed form, the reactions'
 // laws and bounds, nothing when disabled, invalid parameters refused, and the [controller.slope]
-// keys read from a scenario (a bad value names its key).
+// keys read from a suite (a bad value names its key and line).
 #include "rabbit/control/slope_adaptation.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <string>
 
 #include "rabbit/contact/terrain.h"
-#include "rabbit/io/error.h"
 #include "rabbit/scenario/scenario.h"
+#include "rabbit/scenario/suite.h"
+#include "suite_fixture.h"
 
 namespace rabbit {
 namespace {
@@ -151,30 +149,16 @@ TEST(SlopeAdaptationTest, InvalidParametersAreRefused) {
   EXPECT_NE(error.find("preview"), std::string::npos);
 }
 
-class SlopeKeysTest : public ::testing::Test {
+class SlopeKeysTest : public testing::WalkerKeysTest {
  protected:
-  std::string Write(const std::string& slope_table) {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                      ("rabbit_slope_keys_test_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    dir_ = dir.string();
-    const std::string path = (dir / "slope.toml").string();
-    std::ofstream(path) << "[simulation]\nduration = 1.0\n[velocity]\nvalue = 0.6\n"
-                        << "[controller]\ntype = \"fuzzy_cmac\"\ndatabase = \"" << RABBIT_SOURCE_DIR
-                        << "/gaits\"\n[controller.slope]\n"
-                        << slope_table;
-    return path;
-  }
-  void TearDown() override {
-    if (!dir_.empty()) std::filesystem::remove_all(dir_);
-  }
-  std::string dir_;
+  SlopeKeysTest() : WalkerKeysTest("rabbit_slope_keys_test", "slope") {}
 };
 
 TEST_F(SlopeKeysTest, KeysAreRead) {
   const Scenario s =
-      LoadScenario(Write("enabled = true\nfilter = 0.7\ntrunk_gain = 2.0\nframe_gain = 1.5\n"
-                         "trunk_max_deg = 10\nslope_max_deg = 8\npreview = 0.5\n"));
+      LoadSuite(Write("enabled = true\nfilter = 0.7\ntrunk_gain = 2.0\nframe_gain = 1.5\n"
+                      "trunk_max_deg = 10\nslope_max_deg = 8\npreview = 0.5\n"))
+          .scenarios[0];
   EXPECT_TRUE(s.walker.slope.enabled);
   EXPECT_EQ(s.walker.slope.filter, 0.7);
   EXPECT_EQ(s.walker.slope.trunk_gain, 2.0);
@@ -185,18 +169,8 @@ TEST_F(SlopeKeysTest, KeysAreRead) {
 }
 
 TEST_F(SlopeKeysTest, BadValueNamesItsKey) {
-  try {
-    LoadScenario(Write("filter = 1.5\n"));
-    ADD_FAILURE() << "no error";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.key(), "controller.slope.filter") << e.what();
-  }
-  try {
-    LoadScenario(Write("no_such_key = 1\n"));
-    ADD_FAILURE() << "no error";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("no_such_key"), std::string::npos) << e.what();
-  }
+  ExpectError("filter = 1.5\n", "scenario[1].controller.slope.filter");
+  ExpectError("no_such_key = 1\n", "scenario[1].controller.slope.no_such_key");
 }
 
 }  // namespace

@@ -3,21 +3,19 @@
 // law of cosines, the slope reading levelled by a step, the lift's height over a step up, the
 // planner's view of a face, the lean and the stance knee's ramps, the approach speed and the pitch
 // hold after a crossing, nothing when disabled, invalid parameters refused, and the
-// [controller.steps] keys read from a scenario.
+// [controller.steps] keys read from a suite.
 #include "rabbit/control/terrain_steps.h"
 
 #include <gtest/gtest.h>
-#include <unistd.h>
 
 #include <cmath>
-#include <filesystem>
-#include <fstream>
 #include <limits>
 #include <string>
 
 #include "rabbit/control/slope_adaptation.h"
-#include "rabbit/io/error.h"
 #include "rabbit/scenario/scenario.h"
+#include "rabbit/scenario/suite.h"
+#include "suite_fixture.h"
 
 namespace rabbit {
 namespace {
@@ -293,31 +291,19 @@ TEST(TerrainStepsTest, InvalidParametersAreRefused) {
   EXPECT_NE(error.find("up_knee_at"), std::string::npos);
 }
 
-class TerrainStepKeysTest : public ::testing::Test {
+class TerrainStepKeysTest : public testing::WalkerKeysTest {
  protected:
-  std::string Write(const std::string& table) {
-    const std::filesystem::path dir = std::filesystem::temp_directory_path() /
-                                      ("rabbit_terrain_steps_test_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(dir);
-    dir_ = dir.string();
-    const std::string path = (dir / "steps.toml").string();
-    std::ofstream(path) << "[simulation]\nduration = 1.0\n[velocity]\nvalue = 0.6\n"
-                        << "[controller]\ntype = \"fuzzy_cmac\"\ndatabase = \"" << RABBIT_SOURCE_DIR
-                        << "/gaits\"\n[controller.steps]\n"
-                        << table;
-    return path;
-  }
-  void TearDown() override {
-    if (!dir_.empty()) std::filesystem::remove_all(dir_);
-  }
-  std::string dir_;
+  TerrainStepKeysTest() : WalkerKeysTest("rabbit_terrain_steps_test", "steps") {}
 };
 
 TEST_F(TerrainStepKeysTest, KeysAreRead) {
-  const Scenario s = LoadScenario(
-      Write("enabled = true\nclearance = 0.05\nup_lean = 6.0\nknee_share = 0.3\nlean_steps = 3\n"
-            "placement = false\nup_speed = 0.75\ndown_speed = 0.6\nspeed_before = 3.0\n"
-            "hold_steps = 3\nup_knee_by_hip = true\nup_knee_at = -0.1\n"));
+  const Scenario s =
+      LoadSuite(
+          Write(
+              "enabled = true\nclearance = 0.05\nup_lean = 6.0\nknee_share = 0.3\nlean_steps = 3\n"
+              "placement = false\nup_speed = 0.75\ndown_speed = 0.6\nspeed_before = 3.0\n"
+              "hold_steps = 3\nup_knee_by_hip = true\nup_knee_at = -0.1\n"))
+          .scenarios[0];
   EXPECT_TRUE(s.walker.steps.enabled);
   EXPECT_EQ(s.walker.steps.clearance, 0.05);
   EXPECT_EQ(s.walker.steps.up_lean, 6.0);
@@ -333,18 +319,8 @@ TEST_F(TerrainStepKeysTest, KeysAreRead) {
 }
 
 TEST_F(TerrainStepKeysTest, BadValueNamesItsKey) {
-  try {
-    LoadScenario(Write("knee_share = 2\n"));
-    ADD_FAILURE() << "no error";
-  } catch (const InputError& e) {
-    EXPECT_EQ(e.key(), "controller.steps.knee_share") << e.what();
-  }
-  try {
-    LoadScenario(Write("no_such_key = 1\n"));
-    ADD_FAILURE() << "no error";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("no_such_key"), std::string::npos) << e.what();
-  }
+  ExpectError("knee_share = 2\n", "scenario[1].controller.steps.knee_share");
+  ExpectError("no_such_key = 1\n", "scenario[1].controller.steps.no_such_key");
 }
 
 }  // namespace

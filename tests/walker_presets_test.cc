@@ -114,6 +114,53 @@ TEST(FootLift, TheClearanceGrowsWithTheObstacleOnlyWithAHeightGain) {
   EXPECT_NE(error.find("lift_height_gain"), std::string::npos) << error;
 }
 
+TEST(FootLift, TheLiftLetsGoOfAJointNoFasterThanItsReleaseRate) {
+  FootLiftParams p;
+  const Eigen::Vector2d last(0.4, -0.7);  // hip raised, knee flexed by the lift (rad)
+  const Eigen::Vector2d asked(0.0, 0.0);  // the foot past the far edge: let go at once
+  // Off (the library's default): as asked.
+  EXPECT_EQ(p.release_rate, 0.0);
+  EXPECT_EQ(LimitLiftRelease(p, asked, last, 0.001), asked);
+  p.release_rate = 7.0;
+  const Eigen::Vector2d d = LimitLiftRelease(p, asked, last, 0.001);
+  EXPECT_DOUBLE_EQ(d[0], 0.4 - 0.007);
+  EXPECT_DOUBLE_EQ(d[1], -0.7 + 0.007);
+  // A small release within the rate, a growing offset and one changing sign: as asked.
+  EXPECT_EQ(LimitLiftRelease(p, Eigen::Vector2d(0.395, -0.695), last, 0.001),
+            Eigen::Vector2d(0.395, -0.695));
+  EXPECT_EQ(LimitLiftRelease(p, Eigen::Vector2d(0.6, -0.9), last, 0.001),
+            Eigen::Vector2d(0.6, -0.9));
+  EXPECT_EQ(LimitLiftRelease(p, Eigen::Vector2d(-0.1, 0.1), last, 0.001),
+            Eigen::Vector2d(-0.1, 0.1));
+  // No time elapsed (the swing's first lifted period): as asked.
+  EXPECT_EQ(LimitLiftRelease(p, asked, last, 0.0), asked);
+  // Released over 0.1 s at 7 rad/s, the knee's 0.7 rad is let go of in 100 periods of 1 ms.
+  Eigen::Vector2d x = last;
+  int periods = 0;
+  while (x[1] < 0.0 && periods < 1000) {
+    x = LimitLiftRelease(p, asked, x, 0.001);
+    ++periods;
+  }
+  EXPECT_EQ(x[1], 0.0);
+  EXPECT_NEAR(periods, 100, 1);
+}
+
+TEST(WalkerPresets, TheAdaptiveWalkerPacesTheLiftsRelease) {
+  EXPECT_EQ(PresetWalkerParams(WalkerPreset::kAdaptive).lift.release_rate, 7.0);
+  EXPECT_EQ(PresetWalkerParams(WalkerPreset::kChapter).lift.release_rate, 0.0);
+  WalkerParams w = PresetWalkerParams(WalkerPreset::kAdaptive);
+  w.lift.release_rate = -1.0;
+  std::string error;
+  EXPECT_FALSE(w.IsValid(&error));
+  EXPECT_NE(error.find("lift_release_rate"), std::string::npos) << error;
+}
+
+TEST_F(WalkerPresetsTest, TheLiftReleaseRateIsReadOverThePreset) {
+  EXPECT_EQ(LoadScenario(Write("")).walker.lift.release_rate, 7.0);
+  EXPECT_EQ(LoadScenario(Write("lift_release_rate = 5.5\n")).walker.lift.release_rate, 5.5);
+  EXPECT_THROW(LoadScenario(Write("lift_release_rate = -1\n")), InputError);
+}
+
 TEST_F(WalkerPresetsTest, TheLiftHeightGainIsReadOverThePreset) {
   EXPECT_EQ(LoadScenario(Write("")).walker.lift.height_gain, 0.8);
   EXPECT_EQ(LoadScenario(Write("lift_height_gain = 0.5\n")).walker.lift.height_gain, 0.5);

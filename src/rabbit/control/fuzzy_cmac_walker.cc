@@ -27,6 +27,7 @@ bool WalkerParams::IsValid(std::string* error) const {
                                                    {"lift_trail", lift.trail},
                                                    {"lift_ramp", lift.ramp},
                                                    {"lift_release", lift.release},
+                                                   {"lift_release_rate", lift.release_rate},
                                                    {"v_m_noise", v_m_noise},
                                                    {"d_obs_noise", d_obs_noise}};
   for (const auto& [name, value] : values) {
@@ -375,11 +376,7 @@ double FuzzyCmacWalker::LiftHeight(const Terrain& terrain, double foot_x) const 
   const double release = p_.planner.enabled ? p_.planner.over_lift_release : p_.lift.release;
   for (size_t i = 0; i < terrain.obstacles.size(); ++i) {
     const Obstacle& o = terrain.obstacles[i];
-    const double lo = o.x_start - p_.lift.lead, hi = o.x_end() + trail;
-    double a = 1.0;
-    if (foot_x < lo) a = p_.lift.ramp > 0.0 ? 1.0 - (lo - foot_x) / p_.lift.ramp : 0.0;
-    if (foot_x > hi) a = release > 0.0 ? 1.0 - (foot_x - hi) / release : 0.0;
-    a = std::clamp(a, 0.0, 1.0);
+    const double a = LiftRamp(p_.lift, o, trail, release, foot_x);
     // Above the ground the obstacle stands on (absolute heights: the hip's y is absolute).
     if (a > 0.0) {
       h = std::max(h, terrain.ObstacleBase(static_cast<int>(i)) +
@@ -393,8 +390,11 @@ void FuzzyCmacWalker::ApplyLift(const Observation& obs, int sw_hip, Eigen::Vecto
   const Vec7& q = obs.q;
   const double l1 = p_.thigh_length, l2 = p_.shin_length;
   Eigen::Vector4d& r = *ref;
-  const double h = std::max(LiftHeight(*obs.terrain, obs.foot_pos[1 - stance_].x()),
-                            terrain_steps_.LiftHeight(*obs.terrain, obs.foot_pos[1 - stance_].x()));
+  const Eigen::Vector2d& foot = obs.foot_pos[1 - stance_];
+  const double h_obstacle = LiftHeight(*obs.terrain, foot.x());
+  const double h = std::max(h_obstacle, terrain_steps_.LiftHeight(*obs.terrain, foot.x()));
+  lift_raised_ =
+      (lift_t_ >= 0.0 && lift_raised_) || h_obstacle > -std::numeric_limits<double>::infinity();
   Eigen::Vector2d delta = Eigen::Vector2d::Zero();
   if (h > -std::numeric_limits<double>::infinity()) {
     // The pattern's foot point relative to the hip (absolute thigh and shin angles).
@@ -404,7 +404,6 @@ void FuzzyCmacWalker::ApplyLift(const Observation& obs, int sw_hip, Eigen::Vecto
     const double px_pattern = px;
     if (p_.planner.enabled && p_.planner.hold_margin > 0.0) {
       // Hold a foot that is below the next obstacle's top, behind its near edge, back from it.
-      const Eigen::Vector2d& foot = obs.foot_pos[1 - stance_];
       for (const Obstacle& o : obs.terrain->obstacles) {
         if (foot.x() < o.x_start) {
           if (foot.y() < o.height) {
@@ -437,15 +436,20 @@ void FuzzyCmacWalker::ApplyLift(const Observation& obs, int sw_hip, Eigen::Vecto
       }
     }
   }
-  // The lift's rate joins the rate references (finite difference over the control period).
+  // The lift's rate joins the rate references (finite difference over the control period); with
+  // lift_release_rate, the lift's pace and the lifted references' own rates (foot_lift.h).
+  const double dt = lift_t_ >= 0.0 && obs.t > lift_t_ ? obs.t - lift_t_ : 0.0;
+  const bool paced = p_.lift.release_rate > 0.0 && lift_raised_ && dt > 0.0;
+  if (paced) delta = LimitLiftRelease(p_.lift, delta, lift_delta_, dt);
+  const Eigen::Vector2d lifted = r.head<2>() + delta;
   Eigen::Vector2d rate = Eigen::Vector2d::Zero();
-  if (lift_t_ >= 0.0 && obs.t > lift_t_) rate = (delta - lift_delta_) / (obs.t - lift_t_);
+  if (dt > 0.0) rate = (delta - lift_delta_) / dt;
+  if (paced && delta.squaredNorm() > 0.0) rate = (lifted - lift_ref_) / dt - r.tail<2>();
+  r.head<2>() = lifted;
+  r.tail<2>() += rate;
+  lift_ref_ = lifted;
   lift_delta_ = delta;
   lift_t_ = obs.t;
-  r[0] += delta[0];
-  r[1] += delta[1];
-  r[2] += rate[0];
-  r[3] += rate[1];
 }
 
 Eigen::Vector2d FuzzyCmacWalker::RuleTorques(const Observation& obs, double* share) {

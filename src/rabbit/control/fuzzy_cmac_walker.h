@@ -223,6 +223,8 @@ class FuzzyCmacWalker final : public Controller {
   bool lift_armed_ = false;                               // set at each touchdown
   Eigen::Vector2d lift_delta_ = Eigen::Vector2d::Zero();  // last lift (hip, knee), rad
   double lift_t_ = -1.0;                                  // its time (-1: none)
+  Eigen::Vector2d lift_ref_ = Eigen::Vector2d::Zero();    // last lifted (hip, knee) references
+  bool lift_raised_ = false;  // the obstacle lift has raised this swing (lift_release_rate)
   // Rule share: the swing phase's start and each gait's rule state in it.
   struct RuleState {
     bool hip_locked = false, knee_flexed = false, knee_locked = false;
