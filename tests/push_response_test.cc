@@ -168,6 +168,16 @@ TEST(PushResponseTest, BackwardCatchAfterABackwardDisturbance) {
   EXPECT_TRUE(r.Catching());
   r.Observe(4.38, 0.3, true, 0.2);  // latched until the touchdown
   EXPECT_TRUE(r.Catching());
+  // Applied to the swing leg's references while its foot is in the air only.
+  Observation air;
+  air.q[kY] = 0.85;
+  air.foot_contact = {true, false};
+  Eigen::Vector4d swing_ref(0.3, -0.9, 0.0, 0.0);
+  r.ApplyCatch(air, 0, 0.87, &swing_ref);  // leg 0's foot is down: unchanged
+  EXPECT_EQ(swing_ref, Eigen::Vector4d(0.3, -0.9, 0.0, 0.0));
+  r.ApplyCatch(air, 1, 0.87, &swing_ref);
+  EXPECT_NEAR(swing_ref[0], std::asin(-0.05 / 0.87), kTolerance);
+  EXPECT_NEAR(swing_ref[1], -PushResponse::kCatchKnee, kTolerance);
   r.Command(0.6, true);
   r.OnTouchdown(4.5, 0.5);
   EXPECT_FALSE(r.Catching());

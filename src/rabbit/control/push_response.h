@@ -98,6 +98,10 @@ class PushResponse {
   // the hip's capture point x + min(xd, 0) sqrt(y / g) (y: the hip's height above the ground
   // under it), the knee flexed by kCatchKnee.
   void CatchReference(const Observation& obs, double leg, Eigen::Vector4d* ref) const;
+  // The catch's references replace *ref while catching with the swing foot in the air.
+  void ApplyCatch(const Observation& obs, int swing, double leg, Eigen::Vector4d* ref) const {
+    if (catching_ && !obs.foot_contact[swing]) CatchReference(obs, leg, ref);
+  }
   // Offset (rad) of q0_d: response_trunk_gain times d past the dead zone (positive: the trunk
   // pitches back after a backward push, whose hip torque drives the hip forward at once).
   double TrunkOffset() const;
