@@ -9,9 +9,11 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <memory>
 #include <string>
 
+#include "rabbit/model/model.h"
 #include "rabbit/scenario/params.h"
 #include "rabbit/scenario/run.h"
 #include "rabbit/scenario/scenario.h"
@@ -143,6 +145,79 @@ TEST(PushResponseTest, NotArmedWhileTheCommandChangesOrOff) {
   EXPECT_FALSE(off.HoldsPitch());
 }
 
+// The backward catch: latched from response_catch_from of the step once a backward disturbance
+// has been seen, v_orb < 0 and the hip moves backward, until the touchdown; never without the disturbance (a walk whose
+// own v_orb is negative) or with response_catch_back = 0; its reference puts a straight leg
+// response_catch_back behind the capture point.
+TEST(PushResponseTest, BackwardCatchAfterABackwardDisturbance) {
+  RecoveryParams p = Params();
+  p.response_catch_back = 0.05;
+  p.response_catch_from = 0.7;
+  PushResponse r(p);
+  Walk(&r);
+  r.Command(0.6, true);
+  r.OnTouchdown(4.0, 0.5);
+  // v_orb -0.2 from s = 0.2: d = -0.7 once the bin of s in [0.2, 0.3) is complete. The hip moves
+  // backward before s = 0.7 (too early) and forward from 0.7 to 0.75 (not falling back yet).
+  for (int k = 0; k < 350; ++k) r.Observe(4.0 + 1e-3 * k, k < 100 ? 0.5 : -0.2, true, -0.1);
+  EXPECT_TRUE(r.step_disturbed());
+  EXPECT_FALSE(r.Catching());  // s < 0.7
+  for (int k = 351; k < 375; ++k) r.Observe(4.0 + 1e-3 * k, -0.2, true, 0.1);
+  EXPECT_FALSE(r.Catching());  // the hip still moves forward
+  r.Observe(4.376, -0.2, true, -0.1);
+  EXPECT_TRUE(r.Catching());
+  r.Observe(4.38, 0.3, true, 0.2);  // latched until the touchdown
+  EXPECT_TRUE(r.Catching());
+  // Applied to the swing leg's references while its foot is in the air only.
+  Observation air;
+  air.q[kY] = 0.85;
+  air.foot_contact = {true, false};
+  Eigen::Vector4d swing_ref(0.3, -0.9, 0.0, 0.0);
+  r.ApplyCatch(air, 0, 0.87, &swing_ref);  // leg 0's foot is down: unchanged
+  EXPECT_EQ(swing_ref, Eigen::Vector4d(0.3, -0.9, 0.0, 0.0));
+  r.ApplyCatch(air, 1, 0.87, &swing_ref);
+  EXPECT_NEAR(swing_ref[0], std::asin(-0.05 / 0.87), kTolerance);
+  EXPECT_NEAR(swing_ref[1], -PushResponse::kCatchKnee, kTolerance);
+  r.Command(0.6, true);
+  r.OnTouchdown(4.5, 0.5);
+  EXPECT_FALSE(r.Catching());
+  // A walk whose own v_orb is negative late in the step is no disturbance: no catch.
+  PushResponse slow(p);
+  for (int n = 0; n < 9; ++n) {
+    slow.Command(0.6, true);
+    slow.OnTouchdown(0.5 * n, 0.5);
+    for (int k = 0; k < 500; ++k) slow.Observe(0.5 * n + 1e-3 * k, -0.05, true, -0.1);
+  }
+  EXPECT_FALSE(slow.step_disturbed());
+  EXPECT_FALSE(slow.Catching());
+  // Off: never.
+  p.response_catch_back = 0.0;
+  PushResponse off(p);
+  Walk(&off);
+  off.Command(0.6, true);
+  off.OnTouchdown(4.0, 0.5);
+  for (int k = 0; k < 450; ++k) off.Observe(4.0 + 1e-3 * k, k < 100 ? 0.5 : -0.2, true, -0.1);
+  EXPECT_TRUE(off.step_disturbed());
+  EXPECT_FALSE(off.Catching());
+  // The reference: hip at 0.85 m moving back at 0.3 m/s, trunk pitched 0.1 rad (rate 0.2).
+  Observation obs;
+  obs.q[kY] = 0.85;
+  obs.q[kQ0] = 0.1;
+  obs.qd[kX] = -0.3;
+  obs.qd[kQ0] = 0.2;
+  Eigen::Vector4d ref;
+  r.CatchReference(obs, 0.87, &ref);
+  const double behind = -0.3 * std::sqrt(0.85 / 9.81) - 0.05;
+  EXPECT_NEAR(ref[0], std::asin(behind / 0.87) + 0.1, kTolerance);
+  EXPECT_NEAR(ref[1], -PushResponse::kCatchKnee, kTolerance);
+  EXPECT_NEAR(ref[2], 0.2, kTolerance);
+  EXPECT_NEAR(ref[3], 0.0, kTolerance);
+  // Moving forward: the foot goes response_catch_back behind the hip itself.
+  obs.qd[kX] = 0.4;
+  r.CatchReference(obs, 0.87, &ref);
+  EXPECT_NEAR(ref[0], std::asin(-0.05 / 0.87) + 0.1, kTolerance);
+}
+
 TEST(PushResponseTest, InvalidParametersAreRefused) {
   std::string error;
   EXPECT_TRUE(Params().IsValid(&error)) << error;
@@ -158,6 +233,14 @@ TEST(PushResponseTest, InvalidParametersAreRefused) {
   p = Params();
   p.response_trunk_gain = -20.0;
   EXPECT_FALSE(p.IsValid(&error));
+  p = Params();
+  p.response_catch_back = 0.6;
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("response_catch_back"), std::string::npos) << error;
+  p = Params();
+  p.response_catch_from = 2.0;
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("response_catch_from"), std::string::npos) << error;
 }
 
 // The default walker with the response on and off on an undisturbed walk (push_forward.toml

@@ -502,7 +502,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   const int swing = 1 - stance_;
   if (meter_.Update(obs) && meter_.last_step().leg == swing &&
       (obs.foot_pos[swing].x() > obs.foot_pos[stance_].x() ||
-       recovery_.AcceptsLandingBehind(obs))) {
+       recovery_.AcceptsLandingBehind(obs) || response_.Catching())) {
     stance_ = swing;
     swing_start_ = obs.t;
     std::fill(rule_states_.begin(), rule_states_.end(), RuleState{});
@@ -523,7 +523,8 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   }
   recovery_.Observe(obs, stance_);
   // The push response (push_response.h), armed in plain walking: the FIS's input, the rules.
-  if (response_.Observe(obs.t, recovery_.v_orb(), !warming_up_ && !planned_ && !lift_armed_)) {
+  if (response_.Observe(obs.t, recovery_.v_orb(), !warming_up_ && !planned_ && !lift_armed_,
+                        obs.qd[kX])) {
     SetContext(fis_v_ + response_.FisOffset(), fis_d_obs_);
   }
   // The approach watch: the walker's own steps, neither the step over nor the steps after it.
@@ -569,6 +570,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     lift_t_ = -1.0;
   }
   ref[0] += recovery_.SwingOffset(obs.t) + response_.SwingOffset(obs.t);
+  response_.ApplyCatch(obs, sw, p_.thigh_length + p_.shin_length, &ref);
   stall_.Apply(obs, stance_, &ref);
   Vec4 tau;
   double share = 0.0;
@@ -576,7 +578,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   // The foot lift acts through the PD references: while it is armed (the step over and the
   // trailing leg's step) the swing is tracked, whatever the rule share, unless lift_keeps_rules.
   if (!p_.rule_share.empty() && !(lift_armed_ && !p_.lift.keeps_rules) && !stall_.Active(obs.t) &&
-      !stall_.Catching(obs, stance_)) {
+      !stall_.Catching(obs, stance_) && !response_.Catching()) {
     rules = RuleTorques(obs, &share);
   }
   tau[2 * sw] = rules[0] + (1.0 - share) * (p_.hip_kp * (ref[0] - q[sw_hip]) +

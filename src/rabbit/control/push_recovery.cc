@@ -24,7 +24,9 @@ bool RecoveryParams::IsValid(std::string* error) const {
                                                     {"response_place_gain", response_place_gain},
                                                     {"response_place_max", response_place_max},
                                                     {"response_place_back", response_place_back},
-                                                    {"response_trunk_max", response_trunk_max}};
+                                                    {"response_trunk_max", response_trunk_max},
+                                                    {"response_catch_back", response_catch_back},
+                                                    {"response_catch_from", response_catch_from}};
   for (const auto& [name, value] : bounded) {
     if (!(std::isfinite(value) && value >= 0.0 && value <= 10.0)) {
       *error = std::string("recovery.") + name + " must be in [0, 10]";
@@ -58,6 +60,10 @@ bool RecoveryParams::IsValid(std::string* error) const {
     *error =
         "recovery.response_trunk_gain must be in [-10, 10], response_place_max, "
         "response_place_back and response_trunk_max <= 1";
+    return false;
+  }
+  if (response_catch_back > 0.5 || response_catch_from > 1.5) {
+    *error = "recovery.response_catch_back must be <= 0.5 m and response_catch_from <= 1.5";
     return false;
   }
   if (nominal_steps < 1 || nominal_steps > 100) {

@@ -73,6 +73,11 @@ struct RecoveryParams {
   double response_trunk_gain = 0.0;
   double response_trunk_max = 0.2;
   int response_rules_steps = 0;
+  // Backward catch (m; 0: off): in a step disturbed backward, once past response_catch_from of
+  // the step the pendulum falls back (v_orb < 0) with the hip moving backward, the swing foot is
+  // put down response_catch_back behind the hip's capture point (push_response.h).
+  double response_catch_back = 0.0;
+  double response_catch_from = 0.7;
   double gravity = 9.81;  // m/s^2, for the pendulum's omega^2 = g / y_hip
   bool IsValid(std::string* error) const;
 };

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cmath>
 
+#include "rabbit/model/model.h"
+
 namespace rabbit {
 
 int PushResponse::Bin(double t) const {
@@ -45,7 +47,16 @@ void PushResponse::Command(double v_c, bool level) {
   v_c_ = v_c;
 }
 
-bool PushResponse::Observe(double t, double v_orb, bool plain) {
+void PushResponse::CatchCheck(double t, double v_orb, double xd) {
+  // Latched until the touchdown: a backward disturbance seen in this step and the pendulum
+  // falling back, the hip moving backward, past response_catch_from of the step.
+  if (p_.response_catch_back > 0.0 && !catching_ && min_d_ < -p_.response_dead && v_orb < 0.0 &&
+      xd < 0.0 && (t - t_touchdown_) / t_ref_step_[leg_] >= p_.response_catch_from) {
+    catching_ = true;
+  }
+}
+
+bool PushResponse::Observe(double t, double v_orb, bool plain, double xd) {
   if (!enabled()) return false;
   const bool armed = plain && steady_ >= kSteadySteps;
   if (armed != armed_) {
@@ -58,12 +69,14 @@ bool PushResponse::Observe(double t, double v_orb, bool plain) {
     disturbed_run_ = 0;
     fis_offset_ = 0.0;
     d_ = 0.0;
+    catching_ = false;
   }
   if (!armed) return false;
   const int bin = Bin(t);
   if (bin < 0 || !std::isfinite(v_orb)) return false;
   sum_[bin] += v_orb;
   ++samples_[bin];
+  CatchCheck(t, v_orb, xd);
   // A bin is compared with the reference's when it is complete: v_orb varies too much within a
   // bin (impacts) for single samples.
   const int done = bin_;
@@ -78,6 +91,7 @@ bool PushResponse::Observe(double t, double v_orb, bool plain) {
   dev_sum_ += d_;
   ++dev_n_;
   min_d_ = std::min(min_d_, d_);
+  CatchCheck(t, v_orb, xd);
   // The gait pattern follows the disturbance in the first response_fis_steps disturbed steps.
   if (p_.response_fis_gain == 0.0 || disturbed_run_ >= p_.response_fis_steps) return false;
   const double offset = Clamp(p_.response_fis_gain * d_);
@@ -86,8 +100,21 @@ bool PushResponse::Observe(double t, double v_orb, bool plain) {
   return true;
 }
 
+void PushResponse::CatchReference(const Observation& obs, double leg,
+                                  Eigen::Vector4d* ref) const {
+  // The pendulum's height is the hip's above the ground under it.
+  const double ground = obs.terrain != nullptr ? obs.terrain->HeightAt(obs.q[kX]) : 0.0;
+  const double y = std::max(obs.q[kY] - ground, 1e-3);
+  const double dx =
+      std::min(obs.qd[kX], 0.0) * std::sqrt(y / p_.gravity) - p_.response_catch_back;
+  // The hip joint's angle is the thigh's absolute angle (forward positive) plus the trunk's pitch.
+  const double theta = std::asin(std::clamp(dx / leg, -1.0, 1.0));
+  *ref << theta + obs.q[kQ0], -kCatchKnee, obs.qd[kQ0], 0.0;
+}
+
 void PushResponse::OnTouchdown(double t, double t_step) {
   if (!enabled()) return;
+  catching_ = false;
   const bool disturbed = step_disturbed_;
   disturbed_run_ = disturbed ? disturbed_run_ + 1 : 0;
   // A step disturbed backward beyond response_rules_dead: the rules walk from this touchdown.

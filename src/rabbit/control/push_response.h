@@ -31,6 +31,12 @@
 //                 their swing starting there) for response_rules_steps steps: the rules'
 //                 fixed lock angle between the thighs walks out of a backward push that leaves
 //                 the gait pattern, a function of the stance thigh's angle, running in reverse;
+//   catch         in a step disturbed backward, once past response_catch_from of the step the
+//                 pendulum falls back (v_orb < 0) with the hip moving backward, the swing foot is
+//                 put down response_catch_back behind the hip's capture point (a straight leg,
+//                 the knee flexed kCatchKnee), and its landing behind the stance foot is a step:
+//                 the gait pattern, running in reverse, held the swing foot up until the hip ran
+//                 back past it;
 //   trunk         q0_d moves by response_trunk_gain (|d| - response_dead) sign(d) (within
 //                 +-response_trunk_max; measured, not used by the presets);
 //   gait pattern  the fuzzy system's velocity input moves by response_fis_gain d (within
@@ -46,7 +52,10 @@
 
 #include <array>
 
+#include <Eigen/Core>
+
 #include "rabbit/control/push_recovery.h"
+#include "rabbit/sim/controller.h"
 
 namespace rabbit {
 
@@ -58,7 +67,8 @@ class PushResponse {
   // Every control period with the pendulum's hip speed v_orb (plain: the walker walks on its
   // own, not in the warm-up, nor with the planner or the foot lift at work). Returns true when
   // the fuzzy system's input should be moved now (FisOffset() has changed within the step).
-  bool Observe(double t, double v_orb, bool plain);
+  // xd: the hip's forward speed (m/s), for the backward catch.
+  bool Observe(double t, double v_orb, bool plain, double xd = 0.0);
   // At each touchdown, the speed command the walker acts on for the coming step and whether the
   // ground is level (no grade measured or known ahead): the response is armed only after
   // kSteadySteps touchdowns in a row with one command on level ground (a commanded change of
@@ -77,6 +87,21 @@ class PushResponse {
   // Offset (rad) of the swing thigh's reference: response_place_gain times d past the dead zone,
   // faded in over the swing as the push recovery's placement (placement_start, placement_full).
   double SwingOffset(double t) const;
+  // The backward catch (response_catch_back > 0): true from the moment in a step of plain walking
+  // disturbed backward (d < -response_dead), past response_catch_from of the leg's reference
+  // step duration, at which v_orb < 0 (the pendulum falls back) and the hip moves backward, until
+  // the touchdown (Observe latches it). The walker then tracks CatchReference with the PD and
+  // counts the landing behind the stance foot as a step.
+  bool Catching() const { return catching_; }
+  // The catch's swing references (hip joint angle, knee angle and their rates): the swing
+  // thigh's absolute angle that puts a straight leg of length leg (m) response_catch_back behind
+  // the hip's capture point x + min(xd, 0) sqrt(y / g) (y: the hip's height above the ground
+  // under it), the knee flexed by kCatchKnee.
+  void CatchReference(const Observation& obs, double leg, Eigen::Vector4d* ref) const;
+  // The catch's references replace *ref while catching with the swing foot in the air.
+  void ApplyCatch(const Observation& obs, int swing, double leg, Eigen::Vector4d* ref) const {
+    if (catching_ && !obs.foot_contact[swing]) CatchReference(obs, leg, ref);
+  }
   // Offset (rad) of q0_d: response_trunk_gain times d past the dead zone (positive: the trunk
   // pitches back after a backward push, whose hip torque drives the hip forward at once).
   double TrunkOffset() const;
@@ -93,11 +118,13 @@ class PushResponse {
   // step's timing.
   static constexpr int kFirstBin = 2, kLastBin = 9;
   static constexpr int kSteadySteps = 3;
+  static constexpr double kCatchKnee = 0.2;  // rad of knee flexion during the catch
 
  private:
   int Bin(double t) const;
   double Excess() const;  // d past the dead zone (0 within it)
   double Clamp(double v) const;
+  void CatchCheck(double t, double v_orb, double xd);
 
   RecoveryParams p_;
   // Per leg (the steps of the two legs differ by more than the dead zone in some gaits):
@@ -126,6 +153,7 @@ class PushResponse {
   int steady_ = 0;      // touchdowns in a row with that command on level ground
   bool rules_pending_ = false;
   double min_d_ = 0.0;  // the current step's most negative d
+  bool catching_ = false;
 };
 
 }  // namespace rabbit

@@ -208,6 +208,10 @@ void ReadRecovery(TomlReader r, RecoveryParams* p) {
   }
   p->response_trunk_max =
       nonnegative("response_trunk_max", p->response_trunk_max, 1.0, "[0, 1] rad");
+  p->response_catch_back =
+      nonnegative("response_catch_back", p->response_catch_back, 0.5, "[0, 0.5] m");
+  p->response_catch_from =
+      nonnegative("response_catch_from", p->response_catch_from, 1.5, "[0, 1.5]");
   p->gravity = r.Double("gravity", p->gravity);
   if (!(p->gravity > 0.0 && p->gravity <= 100.0)) r.Fail("gravity", "must be in (0, 100] m/s^2");
   r.Finish();
