@@ -64,8 +64,9 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // by more than 0.3 m/s) does not feed the planner's step-length bias: robustness_train.toml
       // (baselines = []) 513 -> 517 of 640, obstacle_after_push 24 -> 30 of 40, speed change
       // 35 -> 34, noise 38 -> 37, the rest the same members; scenarios/train/obstacles.toml
-      // 122 -> 125 of 170 (after a push 22 -> 25); 80 more seeds of the family 40 -> 39
-      // (docs/design.md, "The step planner").
+      // 122 -> 125 of 170 (after a push 22 -> 25); 80 more seeds of the family 40 -> 39. With the
+      // paced lift above: 525 -> 530 of 640 (after a push 22 -> 29), train/obstacles 133 either
+      // way, the 80 more seeds 44 -> 47 (docs/design.md, "The step planner").
       w.planner.push_dead = 0.3;
       w.slope.enabled = true;
       // The speed command moves with the grades ahead: up before and on an uphill, down before
