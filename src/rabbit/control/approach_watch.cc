@@ -4,12 +4,9 @@
 
 namespace rabbit {
 
-int ApproachWatch::Bin(double t) const {
-  if (t_touchdown_ < 0.0 || !(t_ref_[leg_] > 0.0)) return -1;
-  const double s = (t - t_touchdown_) / t_ref_[leg_];
-  if (!(s >= 0.0)) return -1;
-  const int bin = static_cast<int>(s / 1.5 * kPhaseBins);
-  return bin < kPhaseBins ? bin : -1;
+double ApproachWatch::Phase(double t) const {
+  if (t_touchdown_ < 0.0 || !(t_ref_[leg_] > 0.0)) return -1.0;
+  return (t - t_touchdown_) / t_ref_[leg_];
 }
 
 void ApproachWatch::Observe(double t, double v_orb, bool own) {
@@ -23,18 +20,11 @@ void ApproachWatch::Observe(double t, double v_orb, bool own) {
     }
   }
   if (!own || !std::isfinite(v_orb)) return;
-  const int bin = Bin(t);
-  if (bin < 0) return;
-  sum_[bin] += v_orb;
-  ++samples_[bin];
-  // A bin is compared with the reference's when it is complete (v_orb varies within a bin).
-  const int done = bin_;
-  bin_ = bin;
-  if (unjudged_ > 0 || done < kFirstBin || done > kLastBin || done == bin ||
-      samples_[done] == 0 || !has_ref_[leg_][done]) {
-    return;
-  }
-  const double d = sum_[done] / samples_[done] - ref_[leg_][done];
+  int done = -1;
+  if (!bins_.Add(Phase(t), v_orb, &done)) return;
+  // A bin is compared with the reference's when it is complete (step_phase_bins.h).
+  if (unjudged_ > 0 || done < kFirstBin || done > kLastBin || !has_ref_[leg_][done]) return;
+  const double d = bins_.mean(done) - ref_[leg_][done];
   if (std::abs(d) > dead_) {
     disturbed_step_ = true;
     if (std::abs(d) > std::abs(extreme_)) extreme_ = d;
@@ -51,17 +41,15 @@ void ApproachWatch::OnTouchdown(double t, double t_step) {
       t_ref_[leg_] = t_step;  // the leg's timebase: its next step is sampled on it
     } else if (!disturbed_step_ || disturbed_[leg_] > kMaxDisturbed || unjudged_ > 0) {
       for (int b = 0; b < kPhaseBins; ++b) {
-        has_ref_[leg_][b] = samples_[b] > 0;
-        if (samples_[b] > 0) ref_[leg_][b] = sum_[b] / samples_[b];
+        has_ref_[leg_][b] = bins_.has(b);
+        if (bins_.has(b)) ref_[leg_][b] = bins_.mean(b);
       }
       disturbed_[leg_] = 0;
     }
   }
   if (unjudged_ > 0) --unjudged_;
   leg_ = 1 - leg_;
-  sum_.fill(0.0);
-  samples_.fill(0);
-  bin_ = -1;
+  bins_.Clear();
   extreme_ = 0.0;
   disturbed_step_ = false;
   t_touchdown_ = t;

@@ -21,6 +21,8 @@
 
 #include <array>
 
+#include "rabbit/control/step_phase_bins.h"
+
 namespace rabbit {
 
 class ApproachWatch {
@@ -40,23 +42,21 @@ class ApproachWatch {
   bool last_disturbed() const { return last_disturbed_; }
   double last_d() const { return last_d_; }
 
-  static constexpr int kPhaseBins = 15;
+  static constexpr int kPhaseBins = StepPhaseBins::kBins;
   static constexpr int kFirstBin = 2, kLastBin = 9;
   static constexpr int kMaxDisturbed = 2;
   static constexpr int kSettleSteps = 4;  // two steps of each leg
 
  private:
-  int Bin(double t) const;
+  double Phase(double t) const;  // the step's phase on its leg's timebase (-1: none)
 
   double dead_;
   std::array<std::array<double, kPhaseBins>, 2> ref_{};
   std::array<std::array<bool, kPhaseBins>, 2> has_ref_{};
   std::array<double, 2> t_ref_{};   // the legs' timebases (their first steps' durations; 0: none)
   std::array<int, 2> disturbed_{};  // the leg's disturbed steps in a row
-  std::array<double, kPhaseBins> sum_{};
-  std::array<int, kPhaseBins> samples_{};
+  StepPhaseBins bins_;              // the current step's v_orb
   int leg_ = 0;
-  int bin_ = -1;
   double t_touchdown_ = -1.0;
   bool own_ = false;
   double extreme_ = 0.0;  // this step's d of largest magnitude beyond the dead zone

@@ -90,18 +90,12 @@ double PlacementFade(double s, double start, double full) {
   return (s - start) / (full - start);
 }
 
-int PushRecovery::Bin(double s) const {
-  if (!(s >= 0.0)) return -1;
-  const int bin = static_cast<int>(s / 1.5 * kPhaseBins);
-  return bin < kPhaseBins ? bin : -1;
-}
-
 double PushRecovery::Progress(double t) const {
   return t_touchdown_ >= 0.0 && t_step_ > 0.0 ? (t - t_touchdown_) / t_step_ : -1.0;
 }
 
 double PushRecovery::Nominal(double s) const {
-  const int bin = Bin(s);
+  const int bin = StepPhaseBins::Of(s);
   return bin >= 0 && learnt_[bin] > 0 ? nominal_[bin] : std::nan("");
 }
 
@@ -110,10 +104,7 @@ void PushRecovery::Observe(const Observation& obs, int stance) {
   v_orb_ = OrbitalVelocity(obs.q[kX] - obs.foot_pos[stance].x(), obs.qd[kX], obs.q[kY], p_.gravity);
   if (!std::isfinite(v_orb_)) v_orb_ = 0.0;
   const double s = Progress(obs.t);
-  const int bin = Bin(s);
-  if (bin < 0) return;
-  sum_[bin] += v_orb_;
-  ++samples_[bin];
+  if (!bins_.Add(s, v_orb_)) return;
   const double nominal = Nominal(s);
   if (std::isfinite(nominal) && std::abs(v_orb_ - nominal) > p_.placement_dead) disturbed_ = true;
 }
@@ -122,16 +113,15 @@ void PushRecovery::OnTouchdown(double t, double t_step) {
   if (!p_.enabled) return;
   if (!disturbed_ && t_touchdown_ >= 0.0 && t_step > 0.0) {
     for (int b = 0; b < kPhaseBins; ++b) {
-      if (samples_[b] == 0) continue;
-      const double mean = sum_[b] / samples_[b];
+      if (!bins_.has(b)) continue;
+      const double mean = bins_.mean(b);
       learnt_[b] = std::min(learnt_[b] + 1, p_.nominal_steps);
       nominal_[b] += (mean - nominal_[b]) / learnt_[b];
     }
     t_step_ = t_step;
   }
   if (t_step_ <= 0.0 && t_step > 0.0) t_step_ = t_step;
-  sum_.fill(0.0);
-  samples_.fill(0);
+  bins_.Clear();
   disturbed_ = false;
   t_touchdown_ = t;
 }

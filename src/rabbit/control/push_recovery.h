@@ -34,6 +34,7 @@
 #include <array>
 #include <string>
 
+#include "rabbit/control/step_phase_bins.h"
 #include "rabbit/sim/controller.h"
 
 namespace rabbit {
@@ -107,7 +108,7 @@ class PushRecovery {
   double TrunkOffset(double t) const;
 
   double v_orb() const { return v_orb_; }
-  static constexpr int kPhaseBins = 15;
+  static constexpr int kPhaseBins = StepPhaseBins::kBins;
   // The learnt nominal v_orb at swing progress s (NaN: not learnt).
   double Nominal(double s) const;
 
@@ -115,14 +116,12 @@ class PushRecovery {
   RecoveryParams p_;
   // v_orb - v_nom(s) past the soft dead zone (0 within it, or when nothing is learnt).
   double Excess(double t) const;
-  int Bin(double s) const;
   double Progress(double t) const;
 
   double v_orb_ = 0.0;
   std::array<double, kPhaseBins> nominal_{};  // learnt v_orb per phase bin
   std::array<int, kPhaseBins> learnt_{};      // steps averaged into each bin
-  std::array<double, kPhaseBins> sum_{};      // the current step's v_orb per bin ...
-  std::array<int, kPhaseBins> samples_{};     // ... and its samples
+  StepPhaseBins bins_;                        // the current step's v_orb
   bool disturbed_ = false;  // |v_orb - v_nom| beyond placement_dead in the current step
   double t_touchdown_ = -1.0;
   double t_step_ = 0.0;  // nominal step duration (last undisturbed step)

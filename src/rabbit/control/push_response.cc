@@ -7,12 +7,9 @@
 
 namespace rabbit {
 
-int PushResponse::Bin(double t) const {
-  if (t_touchdown_ < 0.0 || !(t_ref_step_[leg_] > 0.0)) return -1;
-  const double s = (t - t_touchdown_) / t_ref_step_[leg_];
-  if (!(s >= 0.0)) return -1;
-  const int bin = static_cast<int>(s / 1.5 * kPhaseBins);
-  return bin < kPhaseBins ? bin : -1;
+double PushResponse::Phase(double t) const {
+  if (t_touchdown_ < 0.0 || !(t_ref_step_[leg_] > 0.0)) return -1.0;
+  return (t - t_touchdown_) / t_ref_step_[leg_];
 }
 
 double PushResponse::Clamp(double v) const {
@@ -72,20 +69,12 @@ bool PushResponse::Observe(double t, double v_orb, bool plain, double xd) {
     catching_ = false;
   }
   if (!armed) return false;
-  const int bin = Bin(t);
-  if (bin < 0 || !std::isfinite(v_orb)) return false;
-  sum_[bin] += v_orb;
-  ++samples_[bin];
+  int done = -1;
+  if (!std::isfinite(v_orb) || !bins_.Add(Phase(t), v_orb, &done)) return false;
   CatchCheck(t, v_orb, xd);
-  // A bin is compared with the reference's when it is complete: v_orb varies too much within a
-  // bin (impacts) for single samples.
-  const int done = bin_;
-  bin_ = bin;
-  if (done < kFirstBin || done > kLastBin || done == bin || samples_[done] == 0 ||
-      !has_ref_[leg_][done]) {
-    return false;
-  }
-  d_ = sum_[done] / samples_[done] - ref_[leg_][done];
+  // A bin is compared with the reference's when it is complete (step_phase_bins.h).
+  if (done < kFirstBin || done > kLastBin || !has_ref_[leg_][done]) return false;
+  d_ = bins_.mean(done) - ref_[leg_][done];
   if (std::abs(d_) <= p_.response_dead) return false;
   step_disturbed_ = true;
   dev_sum_ += d_;
@@ -100,13 +89,11 @@ bool PushResponse::Observe(double t, double v_orb, bool plain, double xd) {
   return true;
 }
 
-void PushResponse::CatchReference(const Observation& obs, double leg,
-                                  Eigen::Vector4d* ref) const {
+void PushResponse::CatchReference(const Observation& obs, double leg, Eigen::Vector4d* ref) const {
   // The pendulum's height is the hip's above the ground under it.
   const double ground = obs.terrain != nullptr ? obs.terrain->HeightAt(obs.q[kX]) : 0.0;
   const double y = std::max(obs.q[kY] - ground, 1e-3);
-  const double dx =
-      std::min(obs.qd[kX], 0.0) * std::sqrt(y / p_.gravity) - p_.response_catch_back;
+  const double dx = std::min(obs.qd[kX], 0.0) * std::sqrt(y / p_.gravity) - p_.response_catch_back;
   // The hip joint's angle is the thigh's absolute angle (forward positive) plus the trunk's pitch.
   const double theta = std::asin(std::clamp(dx / leg, -1.0, 1.0));
   *ref << theta + obs.q[kQ0], -kCatchKnee, obs.qd[kQ0], 0.0;
@@ -139,29 +126,27 @@ void PushResponse::OnTouchdown(double t, double t_step) {
     int common = 0;
     bool agrees = true;
     for (int b = 0; b < kPhaseBins; ++b) {
-      if (samples_[b] == 0) continue;
-      mean[b] = sum_[b] / samples_[b];
+      if (!bins_.has(b)) continue;
+      mean[b] = bins_.mean(b);
       if (!has_prev_[leg_][b] || b < kFirstBin || b > kLastBin) continue;
       ++common;
       if (std::abs(mean[b] - prev_[leg_][b]) > p_.response_dead) agrees = false;
     }
     if (agrees && common >= (kLastBin - kFirstBin) / 2) {
-      for (int b = 0; b < kPhaseBins; ++b) has_ref_[leg_][b] = samples_[b] > 0;
+      for (int b = 0; b < kPhaseBins; ++b) has_ref_[leg_][b] = bins_.has(b);
       ref_[leg_] = mean;
       disturbed_run_ = 0;
     }
-    for (int b = 0; b < kPhaseBins; ++b) has_prev_[leg_][b] = samples_[b] > 0;
+    for (int b = 0; b < kPhaseBins; ++b) has_prev_[leg_][b] = bins_.has(b);
     prev_[leg_] = mean;
   }
   leg_ = 1 - leg_;  // the coming step's
   if (t_ref_step_[leg_] <= 0.0 && t_step > 0.0) t_ref_step_[leg_] = t_step;
-  sum_.fill(0.0);
-  samples_.fill(0);
+  bins_.Clear();
   step_disturbed_ = false;
   min_d_ = 0.0;
   dev_sum_ = 0.0;
   dev_n_ = 0;
-  bin_ = -1;
   t_touchdown_ = t;
 }
 

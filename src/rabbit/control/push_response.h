@@ -121,8 +121,8 @@ class PushResponse {
   static constexpr double kCatchKnee = 0.2;  // rad of knee flexion during the catch
 
  private:
-  int Bin(double t) const;
-  double Excess() const;  // d past the dead zone (0 within it)
+  double Phase(double t) const;  // the step's phase on its leg's reference (-1: none)
+  double Excess() const;         // d past the dead zone (0 within it)
   double Clamp(double v) const;
   void CatchCheck(double t, double v_orb, double xd);
 
@@ -130,14 +130,12 @@ class PushResponse {
   // Per leg (the steps of the two legs differ by more than the dead zone in some gaits):
   template <typename T>
   using PerLeg = std::array<std::array<T, kPhaseBins>, 2>;
-  PerLeg<double> ref_{};                   // v_orb per phase bin of the reference step
-  PerLeg<bool> has_ref_{};                 // ... and whether the bin was sampled
-  PerLeg<double> prev_{};                  // v_orb per phase bin of the leg's last step ...
-  PerLeg<bool> has_prev_{};                // ... and whether the bin was sampled
-  int leg_ = 0;                            // the current step's leg (alternating at each touchdown)
-  std::array<double, kPhaseBins> sum_{};   // the current step's v_orb per bin ...
-  std::array<int, kPhaseBins> samples_{};  // ... and its samples
-  int bin_ = -1;                           // the bin of the last sample (-1: none in this step)
+  PerLeg<double> ref_{};     // v_orb per phase bin of the reference step
+  PerLeg<bool> has_ref_{};   // ... and whether the bin was sampled
+  PerLeg<double> prev_{};    // v_orb per phase bin of the leg's last step ...
+  PerLeg<bool> has_prev_{};  // ... and whether the bin was sampled
+  int leg_ = 0;              // the current step's leg (alternating at each touchdown)
+  StepPhaseBins bins_;       // the current step's v_orb
   double t_touchdown_ = -1.0;
   std::array<double, 2> t_ref_step_{};  // the reference steps' durations
   double d_ = 0.0;
