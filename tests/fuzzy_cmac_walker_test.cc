@@ -368,6 +368,12 @@ TEST(FuzzyCmacWalkerTest, InvalidParametersAreRefused) {
   bad = p;
   bad.k_p = std::nan("");
   EXPECT_FALSE(bad.IsValid(&error));
+  bad = p;
+  bad.rule_gait_choice_mixed_below = std::nan("");
+  EXPECT_FALSE(bad.IsValid(&error));
+  EXPECT_NE(error.find("rule_gait_choice_mixed_below"), std::string::npos) << error;
+  bad.rule_gait_choice_mixed_below = 3.0;
+  EXPECT_TRUE(bad.IsValid(&error)) << error;
   // The thigh frame needs the gaits' trunk pitches.
   CmacOptions o;
   std::vector<GaitCmacs> networks(5, GaitCmacs(4, Cmac(o)));
