@@ -8,7 +8,7 @@
 //
 // The watch measures the disturbance step to step: d = v_orb - v_ref(s), the pendulum's hip
 // speed (push_recovery.h) less its mean at the same phase s of the same leg's last undisturbed
-// step (s over the leg's first step's duration, the bins of push_response.h, s in [0.2, 1)
+// step (s over the leg's first step's duration, the phase bins of step_phase_bins.h, s in [0.2, 1)
 // compared, each bin when complete). A step with |d| > push_dead in a bin is disturbed: it is
 // not its leg's reference (unless more than kMaxDisturbed of the leg's steps in a row were: a new
 // gait), and the walker keeps it out of the planner's bias. The push response's own reference
