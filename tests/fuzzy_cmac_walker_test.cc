@@ -374,6 +374,11 @@ TEST(FuzzyCmacWalkerTest, InvalidParametersAreRefused) {
   EXPECT_NE(error.find("rule_gait_choice_mixed_below"), std::string::npos) << error;
   bad.rule_gait_choice_mixed_below = 3.0;
   EXPECT_TRUE(bad.IsValid(&error)) << error;
+  bad.rule_gait_choice_mixed_point = 1.2;
+  EXPECT_FALSE(bad.IsValid(&error));
+  EXPECT_NE(error.find("rule_gait_choice_mixed_point"), std::string::npos) << error;
+  bad.rule_gait_choice_mixed_point = 1.0;
+  EXPECT_TRUE(bad.IsValid(&error)) << error;
   // The thigh frame needs the gaits' trunk pitches.
   CmacOptions o;
   std::vector<GaitCmacs> networks(5, GaitCmacs(4, Cmac(o)));

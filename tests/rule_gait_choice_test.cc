@@ -1,7 +1,8 @@
 // The choice between two neighbouring rule-walked gaits (rule_gait_choice.h): the nearer gait
 // between two rule-walked ones (and, below rule_gait_choice_mixed_below, next to a tracked one),
 // the input unchanged elsewhere, the choice only while the command holds, and the walker keys
-// rule_gait_choice and rule_gait_choice_mixed_below (adaptive preset against the chapter's).
+// rule_gait_choice, rule_gait_choice_mixed_below and rule_gait_choice_mixed_point (adaptive
+// preset against the chapter's).
 #include "rabbit/control/rule_gait_choice.h"
 
 #include <gtest/gtest.h>
@@ -87,6 +88,22 @@ TEST(RuleGaitChoiceTest, MixedPairsBelowALimit) {
   EXPECT_DOUBLE_EQ(choice.Input(0.33), 0.30);
 }
 
+TEST(RuleGaitChoiceTest, MixedPairsSwitchAtMixedPoint) {
+  // 0.75 of the way from 0.30 to 0.39 m/s: the switch at 0.3675 m/s.
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.36, kSpeeds, kShare, 0.45, 0.75), 0.30);
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.366, kSpeeds, kShare, 0.45, 0.75), 0.30);
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.368, kSpeeds, kShare, 0.45, 0.75), 0.39);
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.36, kSpeeds, kShare, 0.45, 0.5), 0.39);  // the midpoint
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.31, kSpeeds, kShare, 0.45, 0.0), 0.39);  // always the faster
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.38, kSpeeds, kShare, 0.45, 1.0), 0.30);  // always the slower
+  // Two rule-walked gaits keep the midpoint.
+  EXPECT_DOUBLE_EQ(ChooseRuleGait(0.86, kSpeeds, kShare, 0.45, 0.75), 0.89);
+  RuleGaitChoice choice(true, Pitches(), kShare, 0.45, 0.75);
+  choice.OnCommand(0.36);
+  choice.OnCommand(0.36);
+  EXPECT_DOUBLE_EQ(choice.Input(0.36), 0.30);
+}
+
 TEST(RuleGaitChoiceTest, OffIsTheInputAsItIs) {
   RuleGaitChoice choice(false, Pitches(), kShare);
   choice.OnCommand(0.86);
@@ -134,6 +151,14 @@ TEST_F(RuleGaitChoiceKeysTest, ReadAndValidated) {
                    0.6);
   ExpectSuiteError(Suite("rule_gait_choice_mixed_below = -0.1\n"), 9,
                    "scenario[1].controller.rule_gait_choice_mixed_below", "must be in [0, 3]");
+  EXPECT_DOUBLE_EQ(LoadSuite(Write(Suite(""))).scenarios[0].walker.rule_gait_choice_mixed_point,
+                   0.75);  // adaptive
+  EXPECT_DOUBLE_EQ(LoadSuite(Write(Suite("preset = \"chapter\"\n")))
+                       .scenarios[0]
+                       .walker.rule_gait_choice_mixed_point,
+                   0.5);
+  ExpectSuiteError(Suite("rule_gait_choice_mixed_point = 1.5\n"), 9,
+                   "scenario[1].controller.rule_gait_choice_mixed_point", "must be in [0, 1]");
 }
 
 }  // namespace

@@ -53,6 +53,7 @@ TEST_F(StepApproachTest, AdaptivePresetSetsTheApproach) {
   EXPECT_TRUE(s.walker.steps.up_knee_by_hip);
   EXPECT_EQ(s.walker.steps.up_knee_at, -0.12);
   EXPECT_EQ(s.walker.steps.lean_steps, 1);
+  EXPECT_EQ(s.walker.steps.lead, 0.18);
 }
 
 TEST_F(StepApproachTest, TerrainWithoutStepsIsUnchangedBitForBit) {

@@ -77,6 +77,21 @@ TEST(StepPlannerTest, StepOverAgainstHandComputedValues) {
   ExpectPlan(PlanStep(p, 0.05, 0.05), 0, 0.48);
 }
 
+TEST(StepPlannerTest, StepOverAskedAtLeastLOverMin) {
+  StepPlannerParams p = HandParams();
+  p.l_over_min = 0.31;
+  // 0.02 m before a 0.05 m obstacle: 0.02 + 0.05 + 0.10 = 0.17 m, raised to 0.31 m.
+  ExpectPlan(PlanStep(p, 0.02, 0.05), 0, 0.31);
+  // Longer than l_over_min already: unchanged (0.10 + 0.20 + 0.10 = 0.40 m).
+  ExpectPlan(PlanStep(p, 0.10, 0.2), 0, 0.40);
+  // Approach steps are not steps over: the 0.34 m approach step as without it.
+  ExpectPlan(PlanStep(p, 0.40, 0.2), 1, 0.34);
+  // Still clamped to l_over_max.
+  ExpectPlan(PlanStep(p, 0.05, 0.40), 0, 0.48);
+  p.l_over_min = 0.0;
+  ExpectPlan(PlanStep(p, 0.02, 0.05), 0, 0.17);
+}
+
 TEST(StepPlannerTest, ParamsValidation) {
   std::string error;
   EXPECT_TRUE(HandParams().IsValid(&error)) << error;
@@ -91,6 +106,10 @@ TEST(StepPlannerTest, ParamsValidation) {
   p = HandParams();
   p.feedback_gain = 2.0;
   EXPECT_FALSE(p.IsValid(&error));
+  p = HandParams();
+  p.l_over_min = 0.5;  // above l_over_max (0.48)
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("planner.l_over_min must be <= l_over_max"), std::string::npos) << error;
 }
 
 TEST(StepLengthFisTest, InterpolatesLinearlyBetweenNeighbouringGaits) {
@@ -144,6 +163,10 @@ TEST_F(PlannerKeysTest, ReadAndValidated) {
   ExpectError("enabled = \"yes\"\n", 13, "scenario[1].controller.planner.enabled", "");
   ExpectError("l_min = 0.5\n", -1, "scenario[1].controller.planner.l_min", "l_min < l_max");
   ExpectError("horizon = -1.0\n", -1, "scenario[1].controller.planner.horizon", "[0, 10]");
+  EXPECT_DOUBLE_EQ(LoadSuite(Write("l_over_min = 0.35\n")).scenarios[0].walker.planner.l_over_min,
+                   0.35);
+  ExpectError("l_over_min = 0.6\n", -1, "scenario[1].controller.planner.l_over_min",
+              "must be <= l_over_max");
   EXPECT_FALSE(suite.scenarios[0].walker.planner.tracked_gaits_only);  // default
   EXPECT_TRUE(LoadSuite(Write("tracked_gaits_only = true\n"))
                   .scenarios[0]

@@ -43,7 +43,7 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
           PitchMap(params.velocity_control.pitch_map.empty() ? params.gait_pitches
                                                              : params.velocity_control.pitch_map)),
       choice_(params.rule_gait_choice, params.gait_pitches, params.rule_share,
-              params.rule_gait_choice_mixed_below),
+              params.rule_gait_choice_mixed_below, params.rule_gait_choice_mixed_point),
       rng_(CmacMix64(params.seed)) {
   std::string error;
   if (!p_.IsValid(&error)) throw std::invalid_argument("walker: " + error);
@@ -107,7 +107,8 @@ StepPlan FuzzyCmacWalker::PlanNextStep(const Observation& obs, const StepRecord&
   planner_face_ = face < obs.terrain->DistanceToNextObstacle(front);
   if (planner_face_) length = face_length;
   if (pp.follow_gait && d_obs <= pp.horizon && planner_l_gait_ < 0.0) FreezeGait();
-  const StepPlannerParams ep = FollowGait(pp, planner_l_gait_ < 0.0 ? NAN : planner_l_gait_);
+  StepPlannerParams ep = FollowGait(pp, planner_l_gait_ < 0.0 ? NAN : planner_l_gait_);
+  if (planner_face_) ep.l_over_min = 0.0;  // a face's step across is the step planner's own
   StepPlan plan = PlanStep(ep, d_obs, length);
   double target = plan.step_length;
   planner_after_over_ = recovery_left_ > 0 || (plan.active && plan.approach_steps == 0);

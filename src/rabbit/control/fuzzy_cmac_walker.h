@@ -87,6 +87,9 @@ struct WalkerParams {
   // With rule_gait_choice, the choice acts also between a rule-walked and a tracked neighbour
   // whose faster gait is below this speed (m/s in [0, 3]; 0: off).
   double rule_gait_choice_mixed_below = 0.0;
+  // Where between such a mixed pair the input moves from the slower gait to the faster: at this
+  // share of the way between their speeds (in [0, 1]; 0.5: the midpoint).
+  double rule_gait_choice_mixed_point = 0.5;
   // Per reference gait, in the gait pattern's order (filled from the gait database, not a key).
   std::vector<PragmaticParams> gait_rules;
   // Perception.

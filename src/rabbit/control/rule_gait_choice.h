@@ -17,7 +17,9 @@
 // that joins next takes a long step. With mixed_below the choice acts also between a rule-walked
 // and a tracked neighbour below that speed (on the shipped database the 0.3 and 0.4 m/s gaits,
 // whose blend walks faster than either); the walker then leaves out the gait shift there while
-// the command holds.
+// the command holds. Between such a mixed pair the switch lies at mixed_point of the way from the
+// slower gait to the faster (0.5: the midpoint, as between two rule-walked gaits; larger values
+// keep the slower gait longer).
 #ifndef RABBIT_CONTROL_RULE_GAIT_CHOICE_H_
 #define RABBIT_CONTROL_RULE_GAIT_CHOICE_H_
 
@@ -30,9 +32,11 @@ namespace rabbit {
 // pattern's centres, m/s) and rule_share their shares, both in the gait pattern's order (the
 // speeds need not be sorted; unequal sizes or an empty share leave v unchanged).
 // Below mixed_below (m/s; 0: never) the choice acts also between a rule-walked and a tracked
-// neighbour, where the faster of the two is below it.
+// neighbour, where the faster of the two is below it; the input then moves to the slower gait
+// below lo + mixed_point (hi - lo), to the faster one from there (mixed_point in [0, 1]).
 double ChooseRuleGait(double v, const std::vector<double>& speeds,
-                      const std::vector<double>& rule_share, double mixed_below = 0.0);
+                      const std::vector<double>& rule_share, double mixed_below = 0.0,
+                      double mixed_point = 0.5);
 
 // The walker's choice: ChooseRuleGait while the command holds, the input as it is otherwise.
 class RuleGaitChoice {
@@ -42,18 +46,21 @@ class RuleGaitChoice {
   // the gait pattern's order; enabled with a share per gait but not a speed per gait throws
   // std::invalid_argument.
   RuleGaitChoice(bool enabled, const std::vector<std::pair<double, double>>& gait_pitches,
-                 std::vector<double> rule_share, double mixed_below = 0.0);
+                 std::vector<double> rule_share, double mixed_below = 0.0,
+                 double mixed_point = 0.5);
   // At each touchdown: the command V_c of the coming step.
   void OnCommand(double v_c);
   // The gait pattern's velocity input after the choice.
   double Input(double v) const {
-    return enabled_ && holding_ ? ChooseRuleGait(v, speeds_, rule_share_, mixed_below_) : v;
+    return enabled_ && holding_ ? ChooseRuleGait(v, speeds_, rule_share_, mixed_below_, mixed_point_)
+                               : v;
   }
   bool holding() const { return holding_; }
 
  private:
   bool enabled_ = false;
   double mixed_below_ = 0.0;
+  double mixed_point_ = 0.5;
   std::vector<double> speeds_, rule_share_;
   bool have_command_ = false, holding_ = false;
   double last_command_ = 0.0;

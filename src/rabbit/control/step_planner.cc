@@ -16,6 +16,7 @@ bool StepPlannerParams::IsValid(std::string* error) const {
                                                     {"l_max", l_max},
                                                     {"l_nominal", l_nominal},
                                                     {"l_over_max", l_over_max},
+                                                    {"l_over_min", l_over_min},
                                                     {"bias_max", bias_max},
                                                     {"assumed_length", assumed_length},
                                                     {"over_lift_trail", over_lift_trail},
@@ -52,6 +53,10 @@ bool StepPlannerParams::IsValid(std::string* error) const {
   }
   if (!(l_over_max >= l_min)) {
     *error = "planner.l_over_max must be >= l_min";
+    return false;
+  }
+  if (!(l_over_min <= l_over_max)) {
+    *error = "planner.l_over_min must be <= l_over_max";
     return false;
   }
   if (!(std::isfinite(feedback_gain) && feedback_gain >= 0.0 && feedback_gain <= 1.0)) {
@@ -103,7 +108,9 @@ StepPlan PlanStep(const StepPlannerParams& p, double d_obs, double obstacle_leng
   if (!(d_obs <= p.horizon) || !std::isfinite(d_obs)) return plan;
   plan.active = true;
   const double length = p.use_length ? obstacle_length : p.assumed_length;
-  const double over = std::min(d_obs + length + p.margin_after, p.l_over_max);
+  const double over =
+      std::clamp(d_obs + length + p.margin_after, std::min(p.l_over_min, p.l_over_max),
+                 p.l_over_max);
   const double rest = d_obs - p.margin_before;  // to the last foot's target
   if (rest < p.l_min) {
     // No full approach step fits: step over now if it clears the far edge, else creep closer.

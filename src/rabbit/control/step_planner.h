@@ -8,7 +8,7 @@
 //   n L_a = d_obs - margin_before,  L_a in [l_min, l_max],  n the count whose L_a is nearest
 //   l_nominal (the gait's own step) among those that fit;
 // then the step over (n = 0) from that foot is L_over = d_obs + length + margin_after, landing
-// margin_after past the far edge (clamped to l_over_max). When no n fits (d_obs - margin_before
+// margin_after past the far edge (clamped to [l_over_min, l_over_max]). When no n fits (d_obs - margin_before
 // below l_min but not below zero), the step over is taken at once if it can reach past the far
 // edge, else the shortest approach step. The plan is recomputed at every touchdown (receding
 // horizon), so a step that fell short or long is corrected by the next ones.
@@ -48,6 +48,11 @@ struct StepPlannerParams {
   double l_max = 0.45;       // m: longest approach step asked for
   double l_nominal = 0.36;   // m: preferred approach step (the 0.6 m/s walk's)
   double l_over_max = 0.50;  // m: longest step over asked for
+  // m: shortest step over asked for (0: as short as the obstacle and margins make it). A step over
+  // from a foot close to a short obstacle is otherwise asked for at 0.15-0.25 m, shorter than
+  // any approach step: the swing foot lands on the obstacle's far side just past its edge, or the
+  // trailing foot strikes it. Faces of terrain steps (planned for as obstacles) leave it out.
+  double l_over_min = 0.0;
   // Step-length feedback: the fuzzy system's input is
   //   l_nominal + stretch (L_target - l_nominal) - bias,
   // bias starting at bias_initial (the walker's realised step exceeds the database L_step of the

@@ -55,6 +55,13 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       w.lift.height_gain = 0.8;
       w.planner.over_lift_release = 0.02;
       w.planner.l_over_max = 0.45;
+      // ... and at least as long as the shortest approach step (l_min, 0.31 m): a step over
+      // from a foot close to a short obstacle was asked for at 0.15-0.25 m. On
+      // robustness_train.toml (baselines = []) 541 -> 548 of 640 (obstacle rows 28 -> 31, after
+      // a push 29 -> 31, noise 36 -> 39, during a speed change 37 -> 36), every family without
+      // obstacles the same runs; scenarios/train/obstacles.toml 133 -> 137 of 170
+      // (docs/design.md, "The step planner").
+      w.planner.l_over_min = 0.31;
       // The lift lets go of a joint at no more than 7 rad/s (the actuator gives no torque past
       // 8.378) and its references' rates are their own: robustness_train (obstacle, rows, during
       // a speed change, noise) 127 -> 141 of 160, train/obstacles 122 -> 133 of 170
@@ -104,6 +111,11 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // speed_commands 30 of 40 against 27, every other family unchanged run by run;
       // scenarios/train/speed.toml 132 of 180 against 129 (docs/design.md, "Velocity control").
       w.rule_gait_choice_mixed_below = 0.45;
+      // ... there the input moves to the faster gait at 0.75 of the way between the two speeds
+      // (0.3675 m/s), not at the midpoint: robustness_train.toml 541 -> 543 of 640
+      // (speed_commands 30 -> 32, every other family the same runs), scenarios/train/speed.toml
+      // 135 -> 137 of 180 (docs/design.md, "Velocity control").
+      w.rule_gait_choice_mixed_point = 0.75;
       // Steps and platforms: 51 of 120 training members (scenarios/train/steps.toml) against 4
       // without (docs/design.md, "Steps and platforms").
       w.steps.enabled = true;
@@ -132,6 +144,11 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // same 400 members against 303, robustness_train.toml 489 of 640 against 487 (step 40 and
       // platform 35 of 40, every other family identical run by run).
       w.steps.lean_steps = 1;
+      // The foot is at full height over a step's face from 0.18 m before it (0.10 by default):
+      // scenarios/train/steps.toml 107 of 120 against 103 (step up 38 against 36, platform 29
+      // against 27), robustness_train.toml 543 of 640 against 541 (platform 37 against 35 of 40,
+      // every other family the same runs; docs/design.md, "Steps and platforms").
+      w.steps.lead = 0.18;
       // A warm-up step after the first shorter than 0.75 of the start gait's hands over to the
       // Fuzzy-CMAC (docs/results.md, "Choosing the default walker").
       w.warmup_handover_ratio = 0.75;

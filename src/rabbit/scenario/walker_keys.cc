@@ -282,6 +282,11 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   if (!(w.rule_gait_choice_mixed_below >= 0.0 && w.rule_gait_choice_mixed_below <= 3.0)) {
     t->Fail("rule_gait_choice_mixed_below", "must be in [0, 3] m/s");
   }
+  w.rule_gait_choice_mixed_point =
+      t->Double("rule_gait_choice_mixed_point", w.rule_gait_choice_mixed_point);
+  if (!(w.rule_gait_choice_mixed_point >= 0.0 && w.rule_gait_choice_mixed_point <= 1.0)) {
+    t->Fail("rule_gait_choice_mixed_point", "must be in [0, 1]");
+  }
   w.lift.clearance = t->Double("lift_clearance", w.lift.clearance);
   w.lift.height_gain = t->Double("lift_height_gain", w.lift.height_gain);
   w.lift.d_obs = t->Double("lift_d_obs", w.lift.d_obs);
@@ -317,6 +322,7 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
     pp.l_max = pt.Double("l_max", pp.l_max);
     pp.l_nominal = pt.Double("l_nominal", pp.l_nominal);
     pp.l_over_max = pt.Double("l_over_max", pp.l_over_max);
+    pp.l_over_min = pt.Double("l_over_min", pp.l_over_min);
     pp.feedback_gain = pt.Double("feedback_gain", pp.feedback_gain);
     pp.bias_initial = pt.Double("bias_initial", pp.bias_initial);
     pp.bias_max = pt.Double("bias_max", pp.bias_max);
