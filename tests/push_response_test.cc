@@ -343,11 +343,14 @@ TEST(PushResponseTest, InvalidParametersAreRefused) {
   EXPECT_NE(error.find("response_reach"), std::string::npos) << error;
   p.response_reach = -0.1;
   EXPECT_FALSE(p.IsValid(&error));
-  EXPECT_NE(error.find("response_reach"), std::string::npos) << error;
+  EXPECT_NE(error.find("response_reach must be in [0, 1]"), std::string::npos) << error;
   p = Params();
   p.response_reach_dead = 2.5;
   EXPECT_FALSE(p.IsValid(&error));
   EXPECT_NE(error.find("response_reach_dead"), std::string::npos) << error;
+  p.response_reach_dead = -0.1;
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("response_reach_dead must be in [0, 2] m/s"), std::string::npos) << error;
 }
 
 // The default walker with the response on and off on an undisturbed walk (push_forward.toml

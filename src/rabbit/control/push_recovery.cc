@@ -26,9 +26,7 @@ bool RecoveryParams::IsValid(std::string* error) const {
                                                     {"response_place_back", response_place_back},
                                                     {"response_trunk_max", response_trunk_max},
                                                     {"response_catch_back", response_catch_back},
-                                                    {"response_catch_from", response_catch_from},
-                                                    {"response_reach", response_reach},
-                                                    {"response_reach_dead", response_reach_dead}};
+                                                    {"response_catch_from", response_catch_from}};
   for (const auto& [name, value] : bounded) {
     if (!(std::isfinite(value) && value >= 0.0 && value <= 10.0)) {
       *error = std::string("recovery.") + name + " must be in [0, 10]";
@@ -68,11 +66,12 @@ bool RecoveryParams::IsValid(std::string* error) const {
     *error = "recovery.response_catch_back must be <= 0.5 m and response_catch_from <= 1.5";
     return false;
   }
-  if (response_reach > 1.0) {
+  if (!(std::isfinite(response_reach) && response_reach >= 0.0 && response_reach <= 1.0)) {
     *error = "recovery.response_reach must be in [0, 1]";
     return false;
   }
-  if (response_reach_dead > 2.0) {
+  if (!(std::isfinite(response_reach_dead) && response_reach_dead >= 0.0 &&
+        response_reach_dead <= 2.0)) {
     *error = "recovery.response_reach_dead must be in [0, 2] m/s";
     return false;
   }
