@@ -218,6 +218,102 @@ TEST(PushResponseTest, BackwardCatchAfterABackwardDisturbance) {
   EXPECT_NEAR(ref[0], std::asin(-0.05 / 0.87) + 0.1, kTolerance);
 }
 
+// The forward reach: in a step disturbed forward beyond response_reach_dead, seen on the current
+// bin's running mean before the bin is complete, and in the step after it, the swing thigh's
+// reference is raised response_reach of the way toward a straight leg whose foot is on the hip's
+// capture point; never lowered, never on the leg whose foot is down, nor with reach 0, nor in the
+// second step after.
+TEST(PushResponseTest, ForwardReachTowardTheCapturePoint) {
+  RecoveryParams p = Params();
+  p.response_reach = 0.8;
+  p.response_reach_dead = 0.3;
+  PushResponse r(p);
+  Walk(&r);
+  EXPECT_FALSE(r.Reaching());
+  // The hip 0.85 m up, moving forward at 1.2 m/s, trunk pitched 0.1 rad; the swing foot (leg 1)
+  // in the air; the pattern's reference puts the thigh 0.05 rad ahead of the trunk.
+  Observation obs;
+  obs.q[kY] = 0.85;
+  obs.q[kQ0] = 0.1;
+  obs.qd[kX] = 1.2;
+  obs.foot_contact = {true, false};
+  const double leg = 0.87;
+  const Eigen::Vector4d pattern(0.15, -0.6, 0.3, 0.0);
+  const double capture = 1.2 * std::sqrt(0.85 / 9.81);  // the capture point ahead of the hip
+  // The foot's distance ahead of the hip for a straight leg at hip joint angle a.
+  const auto foot = [&](double a) { return leg * std::sin(a - obs.q[kQ0]); };
+  r.Command(0.6, true);
+  r.OnTouchdown(4.0, 0.5);
+  // Undisturbed up to s = 0.3, then v_orb 0.9 (d = 0.4 > 0.3): seen within the bin of s in
+  // [0.3, 0.4), before it is complete.
+  for (int k = 0; k < 150; ++k) r.Observe(4.0 + 1e-3 * k, 0.5, true, 0.6);
+  EXPECT_FALSE(r.Reaching());
+  Eigen::Vector4d ref = pattern;
+  r.ApplyReach(obs, 1, leg, &ref);
+  EXPECT_EQ(ref, pattern);
+  for (int k = 150; k < 160; ++k) r.Observe(4.0 + 1e-3 * k, 0.9, true, 1.2);
+  EXPECT_TRUE(r.Reaching());
+  r.ApplyReach(obs, 1, leg, &ref);
+  const double full = std::asin(capture / leg) + 0.1;  // the straight leg on the capture point
+  EXPECT_NEAR(r.ReachReference(obs, leg), full, kTolerance);
+  EXPECT_NEAR(foot(full), capture, 1e-9);
+  EXPECT_NEAR(ref[0], pattern[0] + 0.8 * (full - pattern[0]), kTolerance);
+  EXPECT_LT(std::abs(foot(ref[0]) - capture), 0.5 * std::abs(foot(pattern[0]) - capture));
+  // The knee's reference and the rates are the pattern's.
+  EXPECT_EQ(Eigen::Vector3d(ref.tail<3>()), Eigen::Vector3d(pattern.tail<3>()));
+  // Not on the stance leg's (foot down), and never lowered: a pattern already further forward.
+  Eigen::Vector4d stance_ref = pattern;
+  r.ApplyReach(obs, 0, leg, &stance_ref);
+  EXPECT_EQ(stance_ref, pattern);
+  Eigen::Vector4d ahead(1.0, -0.6, 0.0, 0.0);
+  r.ApplyReach(obs, 1, leg, &ahead);
+  EXPECT_EQ(ahead[0], 1.0);
+  // The step after the disturbed one reaches too; the one after that no more.
+  for (int k = 160; k < 500; ++k) r.Observe(4.0 + 1e-3 * k, 0.9, true, 1.2);
+  r.Command(0.6, true);
+  r.OnTouchdown(4.5, 0.5);
+  EXPECT_TRUE(r.Reaching());
+  for (int k = 0; k < 500; ++k) r.Observe(4.5 + 1e-3 * k, 0.5, true, 0.6);
+  r.Command(0.6, true);
+  r.OnTouchdown(5.0, 0.5);
+  EXPECT_FALSE(r.Reaching());
+  // A forward disturbance within response_reach_dead (d = 0.2) reaches nothing.
+  PushResponse mild(p);
+  Walk(&mild);
+  Step(&mild, 4.0, 0.7);
+  EXPECT_TRUE(mild.step_disturbed());  // beyond response_dead
+  EXPECT_FALSE(mild.Reaching());
+  // Backward: nothing.
+  PushResponse back(p);
+  Walk(&back);
+  Step(&back, 4.0, -0.2);
+  EXPECT_FALSE(back.Reaching());
+  // A long step: the disturbance seen past s = 1 (against the reference's last compared bin).
+  PushResponse late(p);
+  Walk(&late);
+  late.Command(0.6, true);
+  late.OnTouchdown(4.0, 0.5);
+  for (int k = 0; k < 520; ++k) late.Observe(4.0 + 1e-3 * k, 0.5, true);
+  EXPECT_FALSE(late.Reaching());
+  for (int k = 520; k < 560; ++k) late.Observe(4.0 + 1e-3 * k, 0.9, true);
+  EXPECT_TRUE(late.Reaching());
+  // response_reach = 0 (the library default): the same disturbance changes nothing.
+  p.response_reach = 0.0;
+  PushResponse off(p);
+  Walk(&off);
+  off.Command(0.6, true);
+  off.OnTouchdown(4.0, 0.5);
+  for (int k = 0; k < 500; ++k) off.Observe(4.0 + 1e-3 * k, k < 150 ? 0.5 : 0.9, true, 1.2);
+  EXPECT_TRUE(off.step_disturbed());
+  EXPECT_FALSE(off.Reaching());
+  Eigen::Vector4d off_ref = pattern;
+  off.ApplyReach(obs, 1, leg, &off_ref);
+  EXPECT_EQ(off_ref, pattern);
+  // Library defaults: off.
+  EXPECT_EQ(RecoveryParams().response_reach, 0.0);
+  EXPECT_EQ(RecoveryParams().response_reach_dead, 0.3);
+}
+
 TEST(PushResponseTest, InvalidParametersAreRefused) {
   std::string error;
   EXPECT_TRUE(Params().IsValid(&error)) << error;
@@ -241,6 +337,20 @@ TEST(PushResponseTest, InvalidParametersAreRefused) {
   p.response_catch_from = 2.0;
   EXPECT_FALSE(p.IsValid(&error));
   EXPECT_NE(error.find("response_catch_from"), std::string::npos) << error;
+  p = Params();
+  p.response_reach = 1.2;
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("response_reach"), std::string::npos) << error;
+  p.response_reach = -0.1;
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("response_reach must be in [0, 1]"), std::string::npos) << error;
+  p = Params();
+  p.response_reach_dead = 2.5;
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("response_reach_dead"), std::string::npos) << error;
+  p.response_reach_dead = -0.1;
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("response_reach_dead must be in [0, 2] m/s"), std::string::npos) << error;
 }
 
 // The default walker with the response on and off on an undisturbed walk (push_forward.toml

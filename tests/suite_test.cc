@@ -105,12 +105,18 @@ TEST_F(SuiteTest, RecoveryKeysAreChecked) {
               "scenario[1].controller.recovery.nominal_steps", "");
   ExpectError(Walker(head + "backward_step_speed = 9\n"), 15,
               "scenario[1].controller.recovery.backward_step_speed", "[-5, 5]");
+  ExpectError(Walker(head + "response_reach = 1.5\n"), 15,
+              "scenario[1].controller.recovery.response_reach", "must be in [0, 1]");
+  ExpectError(Walker(head + "response_reach_dead = -0.1\n"), 15,
+              "scenario[1].controller.recovery.response_reach_dead", "must be in [0, 2] m/s");
   ExpectError(Walker(head + "placment_gain = 1\n"), 15,
               "scenario[1].controller.recovery.placment_gain", "unknown key");
   ExpectError(Walker(head + "enabled = 1\n"), 15, "scenario[1].controller.recovery.enabled", "");
-  const Suite suite = LoadSuite(Write(Walker(head + "enabled = false\nplacement_gain = 0.4\n")));
+  const Suite suite = LoadSuite(Write(Walker(head + "enabled = false\nplacement_gain = 0.4\n"
+                                                    "response_reach = 0.5\n")));
   EXPECT_FALSE(suite.scenarios[0].walker.recovery.enabled);
   EXPECT_DOUBLE_EQ(suite.scenarios[0].walker.recovery.placement_gain, 0.4);
+  EXPECT_DOUBLE_EQ(suite.scenarios[0].walker.recovery.response_reach, 0.5);
 }
 
 TEST_F(SuiteTest, BadInputOfTheIssue) {

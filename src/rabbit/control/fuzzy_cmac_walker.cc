@@ -465,6 +465,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     lift_t_ = -1.0;
   }
   ref[0] += recovery_.SwingOffset(obs.t) + response_.SwingOffset(obs.t);
+  response_.ApplyReach(obs, sw, p_.thigh_length + p_.shin_length, &ref);
   response_.ApplyCatch(obs, sw, p_.thigh_length + p_.shin_length, &ref);
   stall_.Apply(obs, stance_, &ref);
   Vec4 tau;

@@ -66,6 +66,15 @@ bool RecoveryParams::IsValid(std::string* error) const {
     *error = "recovery.response_catch_back must be <= 0.5 m and response_catch_from <= 1.5";
     return false;
   }
+  if (!(std::isfinite(response_reach) && response_reach >= 0.0 && response_reach <= 1.0)) {
+    *error = "recovery.response_reach must be in [0, 1]";
+    return false;
+  }
+  if (!(std::isfinite(response_reach_dead) && response_reach_dead >= 0.0 &&
+        response_reach_dead <= 2.0)) {
+    *error = "recovery.response_reach_dead must be in [0, 2] m/s";
+    return false;
+  }
   if (nominal_steps < 1 || nominal_steps > 100) {
     *error = "recovery.nominal_steps must be in [1, 100]";
     return false;

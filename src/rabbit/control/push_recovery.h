@@ -79,6 +79,12 @@ struct RecoveryParams {
   // put down response_catch_back behind the hip's capture point (push_response.h).
   double response_catch_back = 0.0;
   double response_catch_from = 0.7;
+  // Forward reach (share in [0, 1]; 0: off): in a step disturbed forward beyond
+  // response_reach_dead (m/s), and in the step after it, the swing thigh's reference is raised
+  // this share of the way toward a straight leg whose foot is on the hip's capture point
+  // (push_response.h).
+  double response_reach = 0.0;
+  double response_reach_dead = 0.3;
   double gravity = 9.81;  // m/s^2, for the pendulum's omega^2 = g / y_hip
   bool IsValid(std::string* error) const;
 };

@@ -53,6 +53,17 @@ void PushResponse::CatchCheck(double t, double v_orb, double xd) {
   }
 }
 
+void PushResponse::ReachCheck(double t) {
+  // The current bin's running mean against the reference's same bin (past s = 1, a long step,
+  // the reference's last bin compared): the reach acts within the step, not a bin late.
+  if (p_.response_reach <= 0.0 || reach_step_) return;
+  const int bin = StepPhaseBins::Of(Phase(t));
+  if (bin < kFirstBin || !bins_.has(bin)) return;
+  const int ref_bin = std::min(bin, kLastBin);
+  if (!has_ref_[leg_][ref_bin]) return;
+  if (bins_.mean(bin) - ref_[leg_][ref_bin] > p_.response_reach_dead) reach_step_ = true;
+}
+
 bool PushResponse::Observe(double t, double v_orb, bool plain, double xd) {
   if (!enabled()) return false;
   const bool armed = plain && steady_ >= kSteadySteps;
@@ -67,11 +78,13 @@ bool PushResponse::Observe(double t, double v_orb, bool plain, double xd) {
     fis_offset_ = 0.0;
     d_ = 0.0;
     catching_ = false;
+    reach_step_ = reach_next_ = false;
   }
   if (!armed) return false;
   int done = -1;
   if (!std::isfinite(v_orb) || !bins_.Add(Phase(t), v_orb, &done)) return false;
   CatchCheck(t, v_orb, xd);
+  ReachCheck(t);
   // A bin is compared with the reference's when it is complete (step_phase_bins.h).
   if (done < kFirstBin || done > kLastBin || !has_ref_[leg_][done]) return false;
   d_ = bins_.mean(done) - ref_[leg_][done];
@@ -99,9 +112,27 @@ void PushResponse::CatchReference(const Observation& obs, double leg, Eigen::Vec
   *ref << theta + obs.q[kQ0], -kCatchKnee, obs.qd[kQ0], 0.0;
 }
 
+double PushResponse::ReachReference(const Observation& obs, double leg) const {
+  // The pendulum's height is the hip's above the ground under it (as the catch's).
+  const double ground = obs.terrain != nullptr ? obs.terrain->HeightAt(obs.q[kX]) : 0.0;
+  const double y = std::max(obs.q[kY] - ground, 1e-3);
+  const double dx = std::max(obs.qd[kX], 0.0) * std::sqrt(y / p_.gravity);
+  return std::asin(std::clamp(dx / leg, -1.0, 1.0)) + obs.q[kQ0];
+}
+
+void PushResponse::ApplyReach(const Observation& obs, int swing, double leg,
+                              Eigen::Vector4d* ref) const {
+  if (!Reaching() || obs.foot_contact[swing]) return;
+  // Raised response_reach of the way toward the capture point's straight leg, never lowered.
+  (*ref)[0] += p_.response_reach * std::max(ReachReference(obs, leg) - (*ref)[0], 0.0);
+}
+
 void PushResponse::OnTouchdown(double t, double t_step) {
   if (!enabled()) return;
   catching_ = false;
+  // The reach lasts the disturbed step and the one after it.
+  reach_next_ = reach_step_;
+  reach_step_ = false;
   const bool disturbed = step_disturbed_;
   disturbed_run_ = disturbed ? disturbed_run_ + 1 : 0;
   // A step disturbed backward beyond response_rules_dead: the rules walk from this touchdown.

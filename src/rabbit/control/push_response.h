@@ -37,6 +37,13 @@
 //                 the knee flexed kCatchKnee), and its landing behind the stance foot is a step:
 //                 the gait pattern, running in reverse, held the swing foot up until the hip ran
 //                 back past it;
+//   reach         in a step disturbed forward (d > response_reach_dead, d here from the current
+//                 bin's running mean too, from s = 0.2 on and past s = 1 in a long step, so that
+//                 it acts within the step) and in the step after it, the swing thigh's reference
+//                 is raised (never lowered) response_reach of the way toward the angle of a
+//                 straight leg whose foot is on the hip's capture point x + xd sqrt(y / g): a
+//                 Raibert / capture-point step; without it the hip ran ahead of feet that kept the
+//                 command's step, one long step, then a split stance or a fall;
 //   trunk         q0_d moves by response_trunk_gain (|d| - response_dead) sign(d) (within
 //                 +-response_trunk_max; measured, not used by the presets);
 //   gait pattern  the fuzzy system's velocity input moves by response_fis_gain d (within
@@ -102,6 +109,18 @@ class PushResponse {
   void ApplyCatch(const Observation& obs, int swing, double leg, Eigen::Vector4d* ref) const {
     if (catching_ && !obs.foot_contact[swing]) CatchReference(obs, leg, ref);
   }
+  // The forward reach (response_reach > 0): true in a step of plain walking disturbed forward
+  // (d > response_reach_dead, from the current bin's running mean too, s >= 0.2) from the moment
+  // it is seen, and in the whole step after it.
+  bool Reaching() const { return reach_step_ || reach_next_; }
+  // The swing thigh's reference (the hip joint's angle) of a straight leg of length leg (m) whose
+  // foot is on the hip's capture point x + max(xd, 0) sqrt(y / g) (y: the hip's height above the
+  // ground under it).
+  double ReachReference(const Observation& obs, double leg) const;
+  // While reaching with the swing foot in the air, (*ref)[0] moves response_reach of the way up
+  // to ReachReference (not when it is already beyond it); the knee's reference and the rates are
+  // left as they are.
+  void ApplyReach(const Observation& obs, int swing, double leg, Eigen::Vector4d* ref) const;
   // Offset (rad) of q0_d: response_trunk_gain times d past the dead zone (positive: the trunk
   // pitches back after a backward push, whose hip torque drives the hip forward at once).
   double TrunkOffset() const;
@@ -125,6 +144,7 @@ class PushResponse {
   double Excess() const;         // d past the dead zone (0 within it)
   double Clamp(double v) const;
   void CatchCheck(double t, double v_orb, double xd);
+  void ReachCheck(double t);  // the forward reach's trigger, on the current bin's running mean
 
   RecoveryParams p_;
   // Per leg (the steps of the two legs differ by more than the dead zone in some gaits):
@@ -152,6 +172,8 @@ class PushResponse {
   bool rules_pending_ = false;
   double min_d_ = 0.0;  // the current step's most negative d
   bool catching_ = false;
+  bool reach_step_ = false;  // the reach: this step is disturbed forward ...
+  bool reach_next_ = false;  // ... or the step before it was
 };
 
 }  // namespace rabbit

@@ -212,6 +212,9 @@ void ReadRecovery(TomlReader r, RecoveryParams* p) {
       nonnegative("response_catch_back", p->response_catch_back, 0.5, "[0, 0.5] m");
   p->response_catch_from =
       nonnegative("response_catch_from", p->response_catch_from, 1.5, "[0, 1.5]");
+  p->response_reach = nonnegative("response_reach", p->response_reach, 1.0, "[0, 1]");
+  p->response_reach_dead =
+      nonnegative("response_reach_dead", p->response_reach_dead, 2.0, "[0, 2] m/s");
   p->gravity = r.Double("gravity", p->gravity);
   if (!(p->gravity > 0.0 && p->gravity <= 100.0)) r.Fail("gravity", "must be in (0, 100] m/s^2");
   r.Finish();
