@@ -146,9 +146,9 @@ TEST(PushResponseTest, NotArmedWhileTheCommandChangesOrOff) {
 }
 
 // The backward catch: latched from response_catch_from of the step once a backward disturbance
-// has been seen, v_orb < 0 and the hip moves backward, until the touchdown; never without the disturbance (a walk whose
-// own v_orb is negative) or with response_catch_back = 0; its reference puts a straight leg
-// response_catch_back behind the capture point.
+// has been seen, v_orb < 0 and the hip moves backward, until the touchdown; never without the
+// disturbance (a walk whose own v_orb is negative) or with response_catch_back = 0; its reference
+// puts a straight leg response_catch_back behind the capture point.
 TEST(PushResponseTest, BackwardCatchAfterABackwardDisturbance) {
   RecoveryParams p = Params();
   p.response_catch_back = 0.05;

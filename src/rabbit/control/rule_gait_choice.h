@@ -52,8 +52,9 @@ class RuleGaitChoice {
   void OnCommand(double v_c);
   // The gait pattern's velocity input after the choice.
   double Input(double v) const {
-    return enabled_ && holding_ ? ChooseRuleGait(v, speeds_, rule_share_, mixed_below_, mixed_point_)
-                               : v;
+    return enabled_ && holding_
+               ? ChooseRuleGait(v, speeds_, rule_share_, mixed_below_, mixed_point_)
+               : v;
   }
   bool holding() const { return holding_; }
 

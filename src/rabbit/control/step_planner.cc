@@ -108,9 +108,8 @@ StepPlan PlanStep(const StepPlannerParams& p, double d_obs, double obstacle_leng
   if (!(d_obs <= p.horizon) || !std::isfinite(d_obs)) return plan;
   plan.active = true;
   const double length = p.use_length ? obstacle_length : p.assumed_length;
-  const double over =
-      std::clamp(d_obs + length + p.margin_after, std::min(p.l_over_min, p.l_over_max),
-                 p.l_over_max);
+  const double over = std::clamp(d_obs + length + p.margin_after,
+                                 std::min(p.l_over_min, p.l_over_max), p.l_over_max);
   const double rest = d_obs - p.margin_before;  // to the last foot's target
   if (rest < p.l_min) {
     // No full approach step fits: step over now if it clears the far edge, else creep closer.

@@ -8,10 +8,10 @@
 //   n L_a = d_obs - margin_before,  L_a in [l_min, l_max],  n the count whose L_a is nearest
 //   l_nominal (the gait's own step) among those that fit;
 // then the step over (n = 0) from that foot is L_over = d_obs + length + margin_after, landing
-// margin_after past the far edge (clamped to [l_over_min, l_over_max]). When no n fits (d_obs - margin_before
-// below l_min but not below zero), the step over is taken at once if it can reach past the far
-// edge, else the shortest approach step. The plan is recomputed at every touchdown (receding
-// horizon), so a step that fell short or long is corrected by the next ones.
+// margin_after past the far edge (clamped to [l_over_min, l_over_max]). When no n fits (d_obs -
+// margin_before below l_min but not below zero), the step over is taken at once if it can reach
+// past the far edge, else the shortest approach step. The plan is recomputed at every touchdown
+// (receding horizon), so a step that fell short or long is corrected by the next ones.
 //
 // A target step length is realised by a second zero-order TS fuzzy system (StepLengthFis) whose
 // input is the desired step length, with N_r triangles centred on the reference gaits' step
