@@ -128,35 +128,29 @@ class RuleGaitChoiceKeysTest : public testing::SuiteFileTest {
     text.replace(text.find(type), type.size(), type + line);
     return text;
   }
+  // The walker settings the suite's only scenario loads with `line`.
+  WalkerParams Walker(const std::string& line) {
+    return LoadSuite(Write(Suite(line))).scenarios[0].walker;
+  }
 };
 
 TEST_F(RuleGaitChoiceKeysTest, ReadAndValidated) {
-  EXPECT_TRUE(LoadSuite(Write(Suite(""))).scenarios[0].walker.rule_gait_choice);  // adaptive
-  EXPECT_FALSE(
-      LoadSuite(Write(Suite("preset = \"chapter\"\n"))).scenarios[0].walker.rule_gait_choice);
-  EXPECT_FALSE(LoadSuite(Write(Suite("rule_gait_choice = false\n")))
-                   .scenarios[0]
-                   .walker.rule_gait_choice);
+  const WalkerParams adaptive = Walker(""), chapter = Walker("preset = \"chapter\"\n");
+  EXPECT_TRUE(adaptive.rule_gait_choice);
+  EXPECT_FALSE(chapter.rule_gait_choice);
+  EXPECT_FALSE(Walker("rule_gait_choice = false\n").rule_gait_choice);
   ExpectSuiteError(Suite("rule_gait_choice = 1\n"), 9, "scenario[1].controller.rule_gait_choice",
                    "");
-  EXPECT_DOUBLE_EQ(LoadSuite(Write(Suite(""))).scenarios[0].walker.rule_gait_choice_mixed_below,
-                   0.45);  // adaptive
-  EXPECT_DOUBLE_EQ(LoadSuite(Write(Suite("preset = \"chapter\"\n")))
-                       .scenarios[0]
-                       .walker.rule_gait_choice_mixed_below,
-                   0.0);
-  EXPECT_DOUBLE_EQ(LoadSuite(Write(Suite("rule_gait_choice_mixed_below = 0.6\n")))
-                       .scenarios[0]
-                       .walker.rule_gait_choice_mixed_below,
+  EXPECT_DOUBLE_EQ(adaptive.rule_gait_choice_mixed_below, 0.45);
+  EXPECT_DOUBLE_EQ(chapter.rule_gait_choice_mixed_below, 0.0);
+  EXPECT_DOUBLE_EQ(Walker("rule_gait_choice_mixed_below = 0.6\n").rule_gait_choice_mixed_below,
                    0.6);
   ExpectSuiteError(Suite("rule_gait_choice_mixed_below = -0.1\n"), 9,
                    "scenario[1].controller.rule_gait_choice_mixed_below", "must be in [0, 3]");
-  EXPECT_DOUBLE_EQ(LoadSuite(Write(Suite(""))).scenarios[0].walker.rule_gait_choice_mixed_point,
-                   0.75);  // adaptive
-  EXPECT_DOUBLE_EQ(LoadSuite(Write(Suite("preset = \"chapter\"\n")))
-                       .scenarios[0]
-                       .walker.rule_gait_choice_mixed_point,
-                   0.5);
+  EXPECT_DOUBLE_EQ(adaptive.rule_gait_choice_mixed_point, 0.75);
+  EXPECT_DOUBLE_EQ(chapter.rule_gait_choice_mixed_point, 0.5);
+  EXPECT_DOUBLE_EQ(Walker("rule_gait_choice_mixed_point = 0.6\n").rule_gait_choice_mixed_point,
+                   0.6);
   ExpectSuiteError(Suite("rule_gait_choice_mixed_point = 1.5\n"), 9,
                    "scenario[1].controller.rule_gait_choice_mixed_point", "must be in [0, 1]");
 }

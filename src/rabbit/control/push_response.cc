@@ -102,22 +102,23 @@ bool PushResponse::Observe(double t, double v_orb, bool plain, double xd) {
   return true;
 }
 
-void PushResponse::CatchReference(const Observation& obs, double leg, Eigen::Vector4d* ref) const {
+double PushResponse::StraightLegAngle(const Observation& obs, double xd, double offset,
+                                      double leg) const {
   // The pendulum's height is the hip's above the ground under it.
   const double ground = obs.terrain != nullptr ? obs.terrain->HeightAt(obs.q[kX]) : 0.0;
   const double y = std::max(obs.q[kY] - ground, 1e-3);
-  const double dx = std::min(obs.qd[kX], 0.0) * std::sqrt(y / p_.gravity) - p_.response_catch_back;
+  const double dx = xd * std::sqrt(y / p_.gravity) + offset;
   // The hip joint's angle is the thigh's absolute angle (forward positive) plus the trunk's pitch.
-  const double theta = std::asin(std::clamp(dx / leg, -1.0, 1.0));
-  *ref << theta + obs.q[kQ0], -kCatchKnee, obs.qd[kQ0], 0.0;
+  return std::asin(std::clamp(dx / leg, -1.0, 1.0)) + obs.q[kQ0];
+}
+
+void PushResponse::CatchReference(const Observation& obs, double leg, Eigen::Vector4d* ref) const {
+  *ref << StraightLegAngle(obs, std::min(obs.qd[kX], 0.0), -p_.response_catch_back, leg),
+      -kCatchKnee, obs.qd[kQ0], 0.0;
 }
 
 double PushResponse::ReachReference(const Observation& obs, double leg) const {
-  // The pendulum's height is the hip's above the ground under it (as the catch's).
-  const double ground = obs.terrain != nullptr ? obs.terrain->HeightAt(obs.q[kX]) : 0.0;
-  const double y = std::max(obs.q[kY] - ground, 1e-3);
-  const double dx = std::max(obs.qd[kX], 0.0) * std::sqrt(y / p_.gravity);
-  return std::asin(std::clamp(dx / leg, -1.0, 1.0)) + obs.q[kQ0];
+  return StraightLegAngle(obs, std::max(obs.qd[kX], 0.0), 0.0, leg);
 }
 
 void PushResponse::ApplyReach(const Observation& obs, int swing, double leg,

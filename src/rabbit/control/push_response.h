@@ -141,6 +141,10 @@ class PushResponse {
 
  private:
   double Phase(double t) const;  // the step's phase on its leg's reference (-1: none)
+  // The hip joint's angle of a straight leg of length leg (m) whose foot lies offset (m) ahead of
+  // the capture point x + xd sqrt(y / g) (y: the hip's height above the ground under it): the
+  // catch's and the reach's swing reference.
+  double StraightLegAngle(const Observation& obs, double xd, double offset, double leg) const;
   double Excess() const;         // d past the dead zone (0 within it)
   double Clamp(double v) const;
   void CatchCheck(double t, double v_orb, double xd);
