@@ -142,6 +142,33 @@ TEST(VelocityControlTest, RiseExtraFeedForward) {
   EXPECT_NEAR(e.Update(0.4, 0.5), 0.05 + k_p * 0.1 + 0.5 * 0.05, kTolerance);
 }
 
+// v_d_rate_up: in a rise of the profile's own V_d the command climbs at v_d_rate_up; a rise of
+// the terrain's command over a profile that holds, and every decrease, keep v_d_rate; 0 is
+// v_d_rate both ways.
+TEST(VelocityControlTest, RiseRate) {
+  VelocityControlParams p;
+  p.enabled = true;
+  p.v_d_rate = 0.1;
+  p.v_d_rate_up = 0.15;
+  const PitchMap map({{0.4, 0.0}, {0.8, 0.2}});
+  VelocityControl c(p, 0.2, 0.0, -0.1, 0.45, 0.05, map);
+  EXPECT_NEAR(c.Command(0.4, 0.4, 0.4), 0.4, kTolerance);
+  EXPECT_NEAR(c.Command(0.8, 0.4, 0.8), 0.55, kTolerance);  // the profile stepped up
+  EXPECT_NEAR(c.Command(0.8, 0.5, 0.8), 0.7, kTolerance);   // the rise goes on
+  EXPECT_NEAR(c.Command(0.8, 0.6, 0.8), 0.8, kTolerance);   // arrived
+  EXPECT_NEAR(c.Command(0.4, 0.8, 0.4), 0.7, kTolerance);   // down: v_d_rate
+  // The terrain's command (an approach speed over a profile at 0.4) is no rise of the profile.
+  VelocityControl d(p, 0.2, 0.0, -0.1, 0.45, 0.05, map);
+  d.Command(0.4, 0.4, 0.4);
+  EXPECT_NEAR(d.Command(0.7, 0.4, 0.4), 0.5, kTolerance);
+  EXPECT_NEAR(d.Command(0.7, 0.4, 0.4), 0.6, kTolerance);
+  // Off: v_d_rate.
+  p.v_d_rate_up = 0.0;
+  VelocityControl e(p, 0.2, 0.0, -0.1, 0.45, 0.05, map);
+  e.Command(0.4, 0.4, 0.4);
+  EXPECT_NEAR(e.Command(0.8, 0.4, 0.8), 0.5, kTolerance);
+}
+
 TEST(VelocityControlTest, StartsAtTheMap) {
   VelocityControlParams p;
   p.enabled = true;
@@ -191,6 +218,8 @@ TEST(VelocityControlTest, EachRangedKeyIsCheckedAtBothEnds) {
        &VelocityControlParams::gait_shift_max, 0.0, 0.5},
       {"velocity_control.gait_shift_below must be in [0, 3] m/s",
        &VelocityControlParams::gait_shift_below, 0.0, 3.0},
+      {"velocity_control.v_d_rate_up must be in [0, 3] m/s per step",
+       &VelocityControlParams::v_d_rate_up, 0.0, 3.0},
       {"velocity_control.v_d_rate_down must be in [0, 3] m/s per step",
        &VelocityControlParams::v_d_rate_down, 0.0, 3.0},
       {"velocity_control.v_d_rate_down_below must be in [0, 3] m/s",
@@ -227,12 +256,15 @@ class VelocityControlKeysTest : public testing::WalkerKeysTest {
 TEST_F(VelocityControlKeysTest, ReadAndValidated) {
   const Suite off = LoadSuite(Write(""));
   EXPECT_TRUE(off.scenarios[0].walker.velocity_control.enabled);  // the adaptive preset's
+  EXPECT_DOUBLE_EQ(off.scenarios[0].walker.velocity_control.v_d_rate_up, 0.15);
+  EXPECT_DOUBLE_EQ(off.scenarios[0].walker.velocity_control.feedforward_gain, 0.565);
   const Suite suite = LoadSuite(
       Write("enabled = true\nv_d_rate = 0.2\nfeedforward_gain = 0.25\nstart_at_map = false\n"
-            "pitch_map_deg = [[0.4, 0.0], [0.8, 18.0]]\n"));
+            "pitch_map_deg = [[0.4, 0.0], [0.8, 18.0]]\nv_d_rate_up = 0.12\n"));
   const VelocityControlParams& v = suite.scenarios[0].walker.velocity_control;
   EXPECT_TRUE(v.enabled);
   EXPECT_DOUBLE_EQ(v.v_d_rate, 0.2);
+  EXPECT_DOUBLE_EQ(v.v_d_rate_up, 0.12);
   EXPECT_DOUBLE_EQ(v.feedforward_gain, 0.25);
   EXPECT_FALSE(v.start_at_map);
   ASSERT_EQ(v.pitch_map.size(), 2u);
@@ -240,6 +272,7 @@ TEST_F(VelocityControlKeysTest, ReadAndValidated) {
   ExpectError("v_d_rate = -1.0\n", "scenario[1].controller.velocity_control.v_d_rate");
   ExpectError("feedforward_gain = 3.0\n",
               "scenario[1].controller.velocity_control.feedforward_gain");
+  ExpectError("v_d_rate_up = 3.5\n", "scenario[1].controller.velocity_control.v_d_rate_up");
   ExpectError("feedforward_rise_extra = -0.5\n",
               "scenario[1].controller.velocity_control.feedforward_rise_extra");
   ExpectError("pitch_map_deg = [[0.4, 60.0]]\n",

@@ -16,6 +16,7 @@ const std::vector<VelocityControlRange>& VelocityControlRanges() {
       {"gait_shift_gain", &P::gait_shift_gain, 0.0, 10.0, " m/s per rad"},
       {"gait_shift_max", &P::gait_shift_max, 0.0, 0.5, " m/s"},
       {"gait_shift_below", &P::gait_shift_below, 0.0, 3.0, " m/s"},
+      {"v_d_rate_up", &P::v_d_rate_up, 0.0, 3.0, " m/s per step (0: v_d_rate)"},
       {"v_d_rate_down", &P::v_d_rate_down, 0.0, 3.0, " m/s per step (0: v_d_rate)"},
       {"v_d_rate_down_below", &P::v_d_rate_down_below, 0.0, 3.0, " m/s"},
       {"drop_min", &P::drop_min, 0.0, 3.0, " m/s"},
@@ -127,25 +128,26 @@ double VelocityControl::Command(double v_d, double v_m, double v_profile) {
   } else if (stepped_down) {
     dropping_ = true;
   }
+  // A rise: from a touchdown where the profile stepped up, while V_c is below V_d and V_d is the
+  // profile's own (no slope, obstacle or step command); its increases of V_c lean by
+  // feedforward_rise_extra more, at v_d_rate_up.
+  if (v_d <= v_c_ || v_d != source) {
+    rising_ = false;
+  } else if (stepped_up) {
+    rising_ = true;
+  }
   const double down = dropping_ && p_.v_d_rate_down > 0.0 && v_c_ <= p_.v_d_rate_down_below
                           ? p_.v_d_rate_down
                           : p_.v_d_rate;
   double next = v_d;
-  if (p_.v_d_rate > 0.0) next = std::clamp(v_d, v_c_ - down, v_c_ + p_.v_d_rate);
+  const double up = rising_ && p_.v_d_rate_up > 0.0 ? p_.v_d_rate_up : p_.v_d_rate;
+  if (p_.v_d_rate > 0.0) next = std::clamp(v_d, v_c_ - down, v_c_ + up);
   // In a drop V_c waits for the measured stride (drop_gap).
   if (dropping_ && next < v_c_ && p_.drop_gap > 0.0 && std::isfinite(v_m)) {
     next = std::min(v_c_, std::max(next, v_m - p_.drop_gap));
   }
   if (since_drop_ >= 0) ++since_drop_;
   if (dropping_ && next < v_c_) since_drop_ = 0;
-  // A rise: from a touchdown where the profile stepped up, while V_c is below V_d and V_d is the
-  // profile's own (no slope, obstacle or step command); its increases of V_c lean by
-  // feedforward_rise_extra more.
-  if (v_d <= v_c_ || v_d != source) {
-    rising_ = false;
-  } else if (stepped_up) {
-    rising_ = true;
-  }
   const double ff_gain =
       p_.feedforward_gain + (rising_ && next > v_c_ ? p_.feedforward_rise_extra : 0.0);
   pending_ff_ += ff_gain * (map_.At(next) - map_.At(v_c_));

@@ -48,7 +48,8 @@
 // (V_d is the profile's own), and lasts while that holds; in a rise the feed-forward of each
 // increase of V_c uses feedforward_gain + feedforward_rise_extra: the gait blends walked at
 // 0.55-0.8 m/s need a few degrees more pitch than the gaits' map gives (docs/design.md,
-// "Velocity control").
+// "Velocity control"). In a rise, v_d_rate_up (> 0) takes the place of v_d_rate for the increases
+// of V_c.
 //
 // With law = kStepMap the feedback law above gives way to the identified step-to-step map
 // (step_map_control.h), which chooses q0_d at each update; the rate limit still applies.
@@ -75,6 +76,9 @@ struct VelocityControlParams {
   double feedforward_gain = 0.5;  // share of the map's pitch change applied at once
   // Added to feedforward_gain where V_c rises (0: the same share both ways, bit for bit).
   double feedforward_rise_extra = 0.0;
+  // The rate of V_c in a rise of the profile's own V_d (m/s per step; 0: v_d_rate, the law bit for
+  // bit): the commands of the slope, obstacle and step handling keep v_d_rate.
+  double v_d_rate_up = 0.0;
   // The map P as (V in m/s, q0_d in rad) points (made non-decreasing); empty: the reference
   // gaits' (measured V_M, q0_d) from the gait database.
   std::vector<std::pair<double, double>> pitch_map;
