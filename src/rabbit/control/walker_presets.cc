@@ -104,6 +104,12 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       w.velocity_control.v_d_rate_up = 0.15;
       w.velocity_control.v_d_rate_down = 0.15;
       w.velocity_control.drop_gap = 0.55;
+      // ... but from the fast rule-walked gaits (V_c above 0.75 m/s) a drop comes down at
+      // v_d_rate, 0.1 m/s per step, as before the joint tuning: the speed members of
+      // robustness_train.toml and of the same families on two more training seed sets (80, 80
+      // and 200 members) 70 -> 72, 66 -> 65 and 154 -> 156 passed, falls and stalls 10 -> 8 of
+      // 360; every other family the same runs (docs/design.md, "Velocity control").
+      w.velocity_control.v_d_rate_down_below = 0.75;
       // Between two rule-walked gaits (0.8-0.9 and 0.9-1.0 m/s) the pattern walks the nearer one
       // while the command holds: on robustness_train.toml 499 of 640 members against 487,
       // speed_commands 23 of 40 against 18, speed_ramps 37 of 40 against 30 (no fall left), the
