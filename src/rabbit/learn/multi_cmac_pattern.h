@@ -12,8 +12,9 @@
 // one sparse linear least-squares problem with four right-hand sides:
 //   minimise  sum_points (O(x_p) - Y(x_p))^2 + ridge |w|^2
 // (O = sum of the active weights, eq. 6), solved through its normal equations
-// (A^T A + ridge I) w = A^T y, with Eigen's sparse Cholesky factorisation (as the Ceres fit of
-// optimizers/cmac_fit.h, which rabbit_core does not link). Slots no grid point reaches stay 0.
+// (A^T A + ridge I) w = A^T y, by Eigen's conjugate gradients (a sparse Cholesky factorisation
+// fills in badly: hashing joins detectors far apart; the Ceres fit of optimizers/cmac_fit.h is not
+// linked by rabbit_core). Slots no grid point reaches stay 0.
 // Deterministic: the same weights for the same teacher, domain and options, on any thread.
 //
 // Grids: along each input, n points evenly spaced over [lo, hi] with both ends and a spacing of at
