@@ -94,11 +94,10 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // optimizers/jobs/robustness_speed.toml, CRS2 over the 80 training speed members) and
       // scoped to the speed profile's own changes: V_c moves at 0.15 m/s per step in a rise and
       // in a drop (above 0.75 m/s see below; the slope, obstacle and step commands keep
-      // v_d_rate, 0.1), no
-      // more than 0.55 m/s below the measured stride in a drop, and every change of V_c leans by
-      // 0.565 of the pitch map's change, 0.965 in a rise (before: 0.3 m/s per step in a drop
-      // below 0.75 m/s, 0.4 m/s below the stride, 0.5 and 0.75 of the map). On
-      // robustness_train.toml (baselines = []) 555 -> 558 of 640, on the same families drawn
+      // v_d_rate, 0.1), no more than 0.55 m/s below the measured stride in a drop, and every
+      // change of V_c leans by 0.565 of the pitch map's change, 0.965 in a rise (before: 0.3 m/s
+      // per step in a drop below 0.75 m/s, 0.4 m/s below the stride, 0.5 and 0.75 of the map).
+      // On robustness_train.toml (baselines = []) 555 -> 558 of 640, on the same families drawn
       // from other training seeds 548 -> 557 (docs/design.md, "Velocity control").
       w.velocity_control.feedforward_gain = 0.565;
       w.velocity_control.feedforward_rise_extra = 0.4;
