@@ -183,6 +183,22 @@ TEST(MultiCmacBaselineTest, RunsTheWalkerOnTheTrainedPattern) {
   EXPECT_GT(tracked, 0);
 }
 
+// The batch starts the first multi_cmac run first (its training begins at once), then every run
+// that needs no trained pattern, then the other multi_cmac runs; every job exactly once.
+TEST(ExecutionOrderTest, TheFirstTrainingStartsAtOnceAndTheOthersWaitForTheEnd) {
+  Scenario s;
+  const std::vector<std::string> variants = {"fuzzy_cmac", "nearest_gait", "multi_cmac",
+                                             "pragmatic",  "fuzzy_cmac",   "multi_cmac",
+                                             "nearest_gait"};
+  std::vector<BatchJob> jobs;
+  for (const std::string& v : variants) jobs.push_back({&s, v});
+  EXPECT_EQ(ExecutionOrder(jobs), (std::vector<size_t>{2, 0, 1, 3, 4, 6, 5}));
+  // Without multi_cmac runs the order is the jobs' own.
+  jobs = {{&s, "fuzzy_cmac"}, {&s, "pragmatic"}, {&s, "nearest_gait"}};
+  EXPECT_EQ(ExecutionOrder(jobs), (std::vector<size_t>{0, 1, 2}));
+  EXPECT_TRUE(ExecutionOrder({}).empty());
+}
+
 // The walker holds each reference gait's velocity, 0.3 to 1.0 m/s, from that gait's start
 // (scenarios/reference_walks.toml: 20 s, stride V_M within 0.05 m/s from 10 steps on).
 TEST(ReferenceWalksTest, TheWalkerWalksEveryReferenceGaitAtItsVelocity) {

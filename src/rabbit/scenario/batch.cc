@@ -54,6 +54,26 @@ std::vector<BatchJob> PlanBatch(const Suite& suite, const std::string& filter) {
   return jobs;
 }
 
+std::vector<size_t> ExecutionOrder(const std::vector<BatchJob>& jobs) {
+  std::vector<size_t> order, trained_later;
+  order.reserve(jobs.size());
+  bool first = true;
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    if (jobs[i].variant != "multi_cmac") continue;
+    if (first) {
+      order.push_back(i);
+      first = false;
+    } else {
+      trained_later.push_back(i);
+    }
+  }
+  for (size_t i = 0; i < jobs.size(); ++i) {
+    if (jobs[i].variant != "multi_cmac") order.push_back(i);
+  }
+  order.insert(order.end(), trained_later.begin(), trained_later.end());
+  return order;
+}
+
 int BatchThreads(const std::vector<BatchJob>& jobs, int threads) {
   if (threads <= 0) threads = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   return std::min<int>(threads, static_cast<int>(std::max<size_t>(1, jobs.size())));
@@ -64,14 +84,16 @@ void RunBatch(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCache* 
   threads = BatchThreads(jobs, threads);
   GaitLibraryCache own;
   GaitLibraryCache& libraries = shared != nullptr ? *shared : own;
+  const std::vector<size_t> order = ExecutionOrder(jobs);
   std::atomic<size_t> next{0};
   std::atomic<bool> stop{false};
   std::mutex mutex;
   std::exception_ptr error;
   auto worker = [&] {
     while (!stop) {
-      const size_t i = next++;
-      if (i >= jobs.size()) return;
+      const size_t k = next++;
+      if (k >= jobs.size()) return;
+      const size_t i = order[k];
       try {
         const BatchJob& job = jobs[i];
         std::shared_ptr<const GaitLibrary> library;

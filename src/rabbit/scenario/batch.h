@@ -54,6 +54,12 @@ std::vector<BatchJob> PlanBatch(const Suite& suite, const std::string& filter);
 void RunBatch(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCache* libraries,
               const std::function<void(size_t, RunOutput&&)>& on_done);
 
+// The order in which RunBatch (and the ranks' dealing) starts the jobs: the first job that needs a
+// trained multi_cmac pattern first, so that its training starts at once, then every job that needs
+// none, then the other multi_cmac jobs: the other threads walk while one trains, instead of waiting
+// for the pattern. Results do not depend on it (each run is a pure function of its scenario).
+std::vector<size_t> ExecutionOrder(const std::vector<BatchJob>& jobs);
+
 // The threads RunBatch uses for these jobs when asked for `threads` (0: all cores).
 int BatchThreads(const std::vector<BatchJob>& jobs, int threads);
 

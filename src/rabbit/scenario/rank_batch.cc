@@ -336,6 +336,7 @@ namespace {
 void RunDealtJobs(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCache* libraries,
                   const std::function<void(size_t, RunOutput&&)>& on_done) {
   SharedCounter counter;  // a collective on construction and destruction
+  const std::vector<size_t> order = ExecutionOrder(jobs);  // the same on every rank
   std::mutex mutex;
   std::condition_variable wanted, handed;
   int waiting = 0;            // workers waiting for a job
@@ -392,7 +393,7 @@ void RunDealtJobs(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCac
       if (next < 0 || static_cast<size_t>(next) >= jobs.size()) {
         exhausted = true;
       } else {
-        queue.push_back(static_cast<size_t>(next));
+        queue.push_back(order[static_cast<size_t>(next)]);
       }
       handed.notify_all();
     }
