@@ -10,8 +10,8 @@
 #include <cmath>
 #include <map>
 
-#include "rabbit/scenario/run_files.h"
 #include "rabbit/scenario/batch.h"
+#include "rabbit/scenario/run_files.h"
 #include "rabbit/scenario/suite.h"
 
 namespace rabbit {
@@ -122,8 +122,8 @@ TEST_F(PaperSuiteTest, ObstacleIsSteppedOverAsInFigure16) {
   // it lands just before the obstacle.
   EXPECT_LT(short_step.step.l_step, flat + 0.02);
   EXPECT_LT(o.x_start - short_step.step.x, 0.10);
-  EXPECT_GT(long_step.step.l_step, flat + 0.03);   // lengthened...
-  EXPECT_GT(long_step.step.x, o.x_end());          // ...to land beyond it
+  EXPECT_GT(long_step.step.l_step, flat + 0.03);  // lengthened...
+  EXPECT_GT(long_step.step.x, o.x_end());         // ...to land beyond it
   int after = 0;
   for (const StepRow& s : r.steps) after += s.step.x > o.x_end() ? 1 : 0;
   EXPECT_GE(after, 10);
@@ -187,8 +187,8 @@ TEST(MultiCmacBaselineTest, RunsTheWalkerOnTheTrainedPattern) {
 // that needs no trained pattern, then the other multi_cmac runs; every job exactly once.
 TEST(ExecutionOrderTest, TheFirstTrainingStartsAtOnceAndTheOthersWaitForTheEnd) {
   Scenario s;
-  const std::vector<std::string> variants = {"fuzzy_cmac", "nearest_gait", "multi_cmac",
-                                             "pragmatic",  "fuzzy_cmac",   "multi_cmac",
+  const std::vector<std::string> variants = {"fuzzy_cmac",  "nearest_gait", "multi_cmac",
+                                             "pragmatic",   "fuzzy_cmac",   "multi_cmac",
                                              "nearest_gait"};
   std::vector<BatchJob> jobs;
   for (const std::string& v : variants) jobs.push_back({&s, v});

@@ -23,8 +23,8 @@
 #include "rabbit/io/bounded_read.h"
 #include "rabbit/io/csv_table.h"
 #include "rabbit/io/error.h"
-#include "rabbit/scenario/run_files.h"
 #include "rabbit/scenario/ranks.h"
+#include "rabbit/scenario/run_files.h"
 
 namespace rabbit {
 namespace {
@@ -329,14 +329,23 @@ RunBrief ReadRunMarker(const std::string& path) {
 
 namespace {
 
-// Several ranks: this rank's threads take jobs as they become free, from the counter all ranks
-// share (dynamic dealing: a rank that drew long runs simply takes fewer). MPI is called from this
-// (the main) thread only: it fetches an index whenever a worker asks for one and hands it over.
-// on_done(job, run) is called from the workers, serialised. Rethrows the first failure.
+// Several ranks: this rank's threads take jobs as they become free, from counters all ranks share
+// (dynamic dealing: a rank that drew long runs simply takes fewer). The jobs that need a trained
+// multi_cmac pattern have a counter of their own, which rank 0 draws from first and the other
+// ranks only once every other job is taken: the pattern is trained on rank 0 alone unless the
+// other ranks run out of other work (each rank trains its own copy, seconds of CPU). MPI is called
+// from this (the main) thread only: it fetches an index whenever a worker asks for one and hands
+// it over. on_done(job, run) is called from the workers, serialised. Rethrows the first failure.
 void RunDealtJobs(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCache* libraries,
                   const std::function<void(size_t, RunOutput&&)>& on_done) {
-  SharedCounter counter;  // a collective on construction and destruction
-  const std::vector<size_t> order = ExecutionOrder(jobs);  // the same on every rank
+  // Two lists in ExecutionOrder, the same on every rank: the jobs that need a trained pattern and
+  // the others, each dealt from its own counter (collectives on construction and destruction).
+  std::array<std::vector<size_t>, 2> lists;  // [0]: multi_cmac runs, [1]: the others
+  for (size_t job : ExecutionOrder(jobs))
+    lists[jobs[job].variant == "multi_cmac" ? 0 : 1].push_back(job);
+  std::array<SharedCounter, 2> counters;
+  std::array<bool, 2> drained{false, false};
+  const int first = Ranks::rank() == 0 ? 0 : 1;  // the list this rank draws from first
   std::mutex mutex;
   std::condition_variable wanted, handed;
   int waiting = 0;            // workers waiting for a job
@@ -388,12 +397,22 @@ void RunDealtJobs(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCac
       wanted.wait(lock, [&] { return (waiting > static_cast<int>(queue.size())) || exhausted; });
       if (exhausted) break;
       lock.unlock();
-      const long long next = counter.Next();
+      long long job = -1;
+      for (int k = 0; k < 2 && job < 0; ++k) {
+        const int list = k == 0 ? first : 1 - first;
+        if (drained[list]) continue;
+        const long long next = counters[list].Next();
+        if (next >= 0 && static_cast<size_t>(next) < lists[list].size()) {
+          job = static_cast<long long>(lists[list][static_cast<size_t>(next)]);
+        } else {
+          drained[list] = true;
+        }
+      }
       lock.lock();
-      if (next < 0 || static_cast<size_t>(next) >= jobs.size()) {
+      if (job < 0) {
         exhausted = true;
       } else {
-        queue.push_back(order[static_cast<size_t>(next)]);
+        queue.push_back(static_cast<size_t>(job));
       }
       handed.notify_all();
     }
