@@ -341,8 +341,9 @@ void RunDealtJobs(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCac
   // Two lists in ExecutionOrder, the same on every rank: the jobs that need a trained pattern and
   // the others, each dealt from its own counter (collectives on construction and destruction).
   std::array<std::vector<size_t>, 2> lists;  // [0]: multi_cmac runs, [1]: the others
-  for (size_t job : ExecutionOrder(jobs))
+  for (size_t job : ExecutionOrder(jobs)) {
     lists[jobs[job].variant == "multi_cmac" ? 0 : 1].push_back(job);
+  }
   std::array<SharedCounter, 2> counters;
   std::array<bool, 2> drained{false, false};
   const int first = Ranks::rank() == 0 ? 0 : 1;  // the list this rank draws from first
