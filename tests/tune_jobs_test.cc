@@ -45,9 +45,9 @@ TEST(TuneJobsTest, EveryShippedJobLoads) {
     EXPECT_NO_THROW(LoadTuneJob(e.path().string())) << e.path();
     ++jobs;
   }
-  // robustness_obstacles, robustness_push, robustness_push_response and robustness_speed run for
-  // minutes: loaded, not run.
-  EXPECT_EQ(jobs, 7);
+  // robustness_obstacles, robustness_planner, robustness_push, robustness_push_response and
+  // robustness_speed run for minutes: loaded, not run.
+  EXPECT_EQ(jobs, 8);
 }
 
 TEST(TuneJobsTest, VelocityGainsImproveTheRampTracking) { ExpectImproves("velocity_gains"); }
