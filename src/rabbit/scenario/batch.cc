@@ -2,9 +2,11 @@
 
 #include <re2/re2.h>
 
+#include <algorithm>
 #include <atomic>
 #include <exception>
 #include <mutex>
+#include <numeric>
 #include <system_error>
 #include <thread>
 
@@ -54,23 +56,16 @@ std::vector<BatchJob> PlanBatch(const Suite& suite, const std::string& filter) {
   return jobs;
 }
 
+bool NeedsTrainedPattern(const BatchJob& job) { return job.variant == "multi_cmac"; }
+
 std::vector<size_t> ExecutionOrder(const std::vector<BatchJob>& jobs) {
-  std::vector<size_t> order, trained_later;
-  order.reserve(jobs.size());
-  bool first = true;
-  for (size_t i = 0; i < jobs.size(); ++i) {
-    if (jobs[i].variant != "multi_cmac") continue;
-    if (first) {
-      order.push_back(i);
-      first = false;
-    } else {
-      trained_later.push_back(i);
-    }
-  }
-  for (size_t i = 0; i < jobs.size(); ++i) {
-    if (jobs[i].variant != "multi_cmac") order.push_back(i);
-  }
-  order.insert(order.end(), trained_later.begin(), trained_later.end());
+  // The jobs that need no pattern, then those that do, each in plan order; the first of the
+  // latter then moves to the front.
+  std::vector<size_t> order(jobs.size());
+  std::iota(order.begin(), order.end(), size_t{0});
+  const auto plain_end = std::stable_partition(
+      order.begin(), order.end(), [&](size_t i) { return !NeedsTrainedPattern(jobs[i]); });
+  if (plain_end != order.end()) std::rotate(order.begin(), plain_end, plain_end + 1);
   return order;
 }
 

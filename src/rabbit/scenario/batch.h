@@ -54,6 +54,10 @@ std::vector<BatchJob> PlanBatch(const Suite& suite, const std::string& filter);
 void RunBatch(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCache* libraries,
               const std::function<void(size_t, RunOutput&&)>& on_done);
 
+// Whether the job's run needs a trained multi_cmac pattern (its variant is the multi_cmac
+// baseline): the one run of a batch with a start-up cost of seconds, trained once per process.
+bool NeedsTrainedPattern(const BatchJob& job);
+
 // The order in which RunBatch (and the ranks' dealing) starts the jobs: the first job that needs a
 // trained multi_cmac pattern first, so that its training starts at once, then every job that needs
 // none, then the other multi_cmac jobs: the other threads walk while one trains, instead of waiting

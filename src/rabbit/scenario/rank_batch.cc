@@ -342,7 +342,7 @@ void RunDealtJobs(const std::vector<BatchJob>& jobs, int threads, GaitLibraryCac
   // the others, each dealt from its own counter (collectives on construction and destruction).
   std::array<std::vector<size_t>, 2> lists;  // [0]: multi_cmac runs, [1]: the others
   for (size_t job : ExecutionOrder(jobs)) {
-    lists[jobs[job].variant == "multi_cmac" ? 0 : 1].push_back(job);
+    lists[NeedsTrainedPattern(jobs[job]) ? 0 : 1].push_back(job);
   }
   std::array<SharedCounter, 2> counters;
   std::array<bool, 2> drained{false, false};
