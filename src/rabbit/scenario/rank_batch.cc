@@ -1,6 +1,7 @@
 #include "rabbit/scenario/rank_batch.h"
 
 #include <stdlib.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <array>
@@ -13,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <mutex>
+#include <random>
 #include <sstream>
 #include <stdexcept>
 #include <string_view>
@@ -172,6 +174,55 @@ struct ScratchFolder {
   }
 };
 
+// The file through which a rank finds out whether it sees the report folder (WritesIntoReport).
+constexpr const char* kRankProbe = ".rabbit-rank-probe";
+
+bool TransferForced() {
+  const char* mode = std::getenv("RABBIT_RANK_FILES");
+  const std::string text = mode == nullptr ? "auto" : mode;
+  if (text == "auto") return false;
+  if (text == "transfer") return true;
+  throw InputError("environment", 0, "RABBIT_RANK_FILES",
+                   "expected \"auto\" or \"transfer\", got \"" + text + "\"");
+}
+
+std::string RandomToken() {
+  std::random_device random;
+  std::string token;
+  for (int k = 0; k < 4; ++k) token += std::to_string(random()) + "-";
+  return token + std::to_string(::getpid());
+}
+
+// Whether this rank writes its runs' folders straight into the report folder `dir`, which rank 0
+// creates. Rank 0 does; it writes a probe holding a random token into the folder, and a rank that
+// reads the token back sees that folder (ranks on one machine, or a file system the ranks share)
+// and writes its folders straight into it, each run's marker last as rank 0 does; a rank that does
+// not (or every rank, with RABBIT_RANK_FILES=transfer) writes them into a scratch folder and sends
+// them to rank 0 after the runs. Rank 0 removes the probe once every rank has looked. A collective.
+bool WritesIntoReport(const fs::path& dir) {
+  bool forced = false;
+  std::string token;
+  RunAgreed([&] {
+    forced = TransferForced();
+    if (Ranks::rank() != 0) return;
+    fs::create_directories(dir);
+    token = RandomToken();
+    WriteFileAtomically((dir / kRankProbe).string(), [&](std::ostream& out) { out << token; });
+  });
+  token = Ranks::Broadcast(token);
+  bool sees = Ranks::rank() == 0;
+  if (!sees && !forced) {
+    std::ifstream in(dir / kRankProbe, std::ios::binary);
+    std::string read;
+    sees = in && std::getline(in, read) && read == token;
+  }
+  Ranks::AllTrue(true);  // every rank has looked
+  RunAgreed([&] {
+    if (Ranks::rank() == 0) fs::remove(dir / kRankProbe);
+  });
+  return sees;
+}
+
 // The files of a non-root rank's scratch folder, handed out in pieces. A message is a status
 // (0: an error message follows; 1: pieces follow), whether more pieces remain after these, their
 // count, then per piece the file's relative path, the offset and the bytes.
@@ -219,12 +270,13 @@ class Outbox {
 
  private:
   void List() {
+    listed_ = true;
+    if (base_.empty()) return;  // this rank wrote into the report itself
     for (const fs::directory_entry& entry : fs::recursive_directory_iterator(base_)) {
       if (entry.is_regular_file()) files_.push_back(entry.path().lexically_relative(base_));
     }
     // The run markers go last: a transfer cut short leaves no marker beside a partial folder.
     std::sort(files_.begin(), files_.end(), TransferOrder);
-    listed_ = true;
   }
 
   fs::path base_;
@@ -435,11 +487,12 @@ RankBatchResult RunBatchOverRanks(const std::vector<BatchJob>& jobs, const std::
                                         static_cast<int>(std::max<size_t>(1, jobs.size() / size)));
   std::vector<RunBrief> briefs;
   ScratchFolder scratch;
+  const bool direct = size == 1 || WritesIntoReport(dir);
   RunAgreed([&] {
     std::string out = dir;
-    if (rank == 0) {
+    if (size == 1) {
       fs::create_directories(dir);
-    } else {
+    } else if (!direct) {
       scratch.Create();
       out = scratch.path.string();
     }
