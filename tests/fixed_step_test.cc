@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
 #include <utility>
 
 #include "rabbit/control/basic_controllers.h"
@@ -28,24 +29,39 @@ void SwingState(Vec7* q, Vec7* qd) {
   *qd << 0.0, 0.0, 30.0 * kDeg, 200.0 * kDeg, -150.0 * kDeg, -100.0 * kDeg, 50.0 * kDeg;
 }
 
-class FixedStepTest : public ::testing::TestWithParam<double> {
+// A fixed step: its size (s) and the method's order (4: the classic Runge-Kutta method; 3: ARKODE's
+// order-3 table, Bogacki-Shampine).
+struct FixedStep {
+  double step = 1e-3;
+  int order = 4;
+};
+
+class FixedStepTest : public ::testing::TestWithParam<FixedStep> {
  protected:
   SimSetup BaseSetup(const Model& model, double duration) const {
     SimSetup setup;
     setup.model = &model;
     setup.options.duration = duration;
-    setup.options.integrator.fixed_step = GetParam();
+    setup.options.integrator.fixed_step = GetParam().step;
+    setup.options.integrator.order = GetParam().order;
     return setup;
+  }
+  std::string Label() const {
+    char text[64];
+    std::snprintf(text, sizeof text, "fixed step %g s, order %d", GetParam().step,
+                  GetParam().order);
+    return text;
   }
 };
 
-SimResult Swing(const Model& model, double duration, double fixed_step) {
+SimResult Swing(const Model& model, double duration, double fixed_step, int order = 4) {
   SimSetup setup;
   setup.model = &model;
   setup.options.duration = duration;
   setup.options.contact = false;
   setup.options.fall.enabled = false;
   setup.options.integrator.fixed_step = fixed_step;
+  setup.options.integrator.order = order;
   if (fixed_step == 0.0) {  // the reference: adaptive order 4, tolerances as the swing scenario's
     setup.options.integrator.rtol = 1e-10;
     setup.options.integrator.atol = 1e-12;
@@ -60,9 +76,9 @@ TEST_P(FixedStepTest, ContactFreeSwingFollowsTheTightReference) {
   // Acceptance: the contact-free swing within 1e-6 rad of an accurate solution over 1 s (seen
   // 4e-13 and 1.4e-12 rad at 1 and 0.5 ms: the reference's own error; the classic method's at 1 ms
   // is 1.4e-12, and was 2.2e-10 before ARKODE was kept from taking the method as
-  // first-same-as-last, integrator.cc).
+  // first-same-as-last, integrator.cc; order 3 at 1 ms: 1.8e-9).
   const Model model{ModelParams{}};
-  const SimResult fixed = Swing(model, 1.0, GetParam());
+  const SimResult fixed = Swing(model, 1.0, GetParam().step, GetParam().order);
   const SimResult reference = Swing(model, 1.0, 0.0);
   ASSERT_EQ(fixed.outcome, Outcome::kCompleted) << fixed.reason;
   ASSERT_EQ(fixed.samples.size(), reference.samples.size());
@@ -72,16 +88,16 @@ TEST_P(FixedStepTest, ContactFreeSwingFollowsTheTightReference) {
     worst = std::max(worst, (fixed.samples[i].q - reference.samples[i].q).cwiseAbs().maxCoeff());
   }
   EXPECT_LT(worst, 1e-6);
-  std::printf("fixed step %g s, 1 s swing: max |q - reference| %.2e\n", GetParam(), worst);
+  std::printf("%s, 1 s swing: max |q - reference| %.2e\n", Label().c_str(), worst);
   EXPECT_GT((fixed.samples.back().q - fixed.samples.front().q).cwiseAbs().maxCoeff(), 0.5);
   // One step per step size in each period: fixed steps, not adaptive ones.
   const long periods = fixed.num_periods;
-  EXPECT_EQ(fixed.integrator.steps, std::lround(1e-3 / GetParam()) * periods);
+  EXPECT_EQ(fixed.integrator.steps, std::lround(1e-3 / GetParam().step) * periods);
 }
 
 TEST_P(FixedStepTest, ContactFreeTorqueFreeMotionConservesEnergy) {
   const Model model{ModelParams{}};
-  const SimResult r = Swing(model, 5.0, GetParam());
+  const SimResult r = Swing(model, 5.0, GetParam().step, GetParam().order);
   ASSERT_EQ(r.outcome, Outcome::kCompleted) << r.reason;
   const double e0 = TotalEnergy(r.samples.front());
   double worst = 0.0;
@@ -98,7 +114,7 @@ TEST_P(FixedStepTest, DropSettlesWithinAcceptanceNumbers) {
   const SimResult r = Simulate(setup, q, Vec7::Zero(), &hold);
   ASSERT_EQ(r.outcome, Outcome::kCompleted) << r.reason;
   const auto [deepest, rebound, landed] = MeasureDrop(r);
-  std::printf("fixed step %g s, 2 cm drop: penetration %.2f mm, rebound %.3f mm\n", GetParam(),
+  std::printf("%s, 2 cm drop: penetration %.2f mm, rebound %.3f mm\n", Label().c_str(),
               -deepest * 1e3, rebound * 1e3);
   EXPECT_TRUE(landed[0] && landed[1]);
   EXPECT_GT(-deepest, 0.0);
@@ -129,7 +145,7 @@ TEST_P(FixedStepTest, StandingFeetDoNotSlip) {
     }
     EXPECT_EQ(r.samples.back().foot_mode[leg], ContactMode::kStick);
   }
-  std::printf("fixed step %g s, standing 10 s: fastest foot slip %.2e m/s\n", GetParam(), fastest);
+  std::printf("%s, standing 10 s: fastest foot slip %.2e m/s\n", Label().c_str(), fastest);
 }
 
 TEST_P(FixedStepTest, TouchdownTimeOfFreeFallIsLocated) {
@@ -150,9 +166,12 @@ TEST_P(FixedStepTest, TouchdownTimeOfFreeFallIsLocated) {
   EXPECT_NEAR(r.events[1].t, first.t, 1e-6);
 }
 
-INSTANTIATE_TEST_SUITE_P(Steps, FixedStepTest, ::testing::Values(1e-3, 5e-4),
-                         [](const ::testing::TestParamInfo<double>& step) {
-                           return step.param == 1e-3 ? "Rk4At1ms" : "Rk4At0_5ms";
+INSTANTIATE_TEST_SUITE_P(Steps, FixedStepTest,
+                         ::testing::Values(FixedStep{1e-3, 4}, FixedStep{5e-4, 4},
+                                           FixedStep{1e-3, 3}),
+                         [](const ::testing::TestParamInfo<FixedStep>& p) {
+                           const std::string method = p.param.order == 4 ? "Rk4" : "Order3";
+                           return method + (p.param.step == 1e-3 ? "At1ms" : "At0_5ms");
                          });
 
 // The fixed step at order 4 is the classic method, step for step: a hand-written classic
