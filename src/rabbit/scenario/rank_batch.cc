@@ -490,8 +490,8 @@ RankBatchResult RunBatchOverRanks(const std::vector<BatchJob>& jobs, const std::
   const bool direct = size == 1 || WritesIntoReport(dir);
   RunAgreed([&] {
     std::string out = dir;
-    if (size == 1) {
-      fs::create_directories(dir);
+    if (rank == 0) {
+      fs::create_directories(dir);  // already there with several ranks (WritesIntoReport)
     } else if (!direct) {
       scratch.Create();
       out = scratch.path.string();
