@@ -60,7 +60,8 @@ import csv, math, sys
 work, names = sys.argv[1], sys.argv[2:]
 def load(name):
     rows = {r["run"]: r for r in csv.DictReader(open(f"{work}/out_{name}/summary.csv"))}
-    user, sys_ = map(float, open(f"{work}/time_{name}").read().split("\n")[-2].split())  # time prints "Command exited ..." first on exit 1
+    # The last line: on exit 1, time prints "Command exited with non-zero status 1" first.
+    user, sys_ = map(float, open(f"{work}/time_{name}").read().splitlines()[-1].split())
     return rows, user + sys_
 data = {n: load(n) for n in names}
 def diff(a, b, key):
