@@ -89,6 +89,8 @@ TEST(WalkerPresets, TheAdaptiveWalkerStepsOverLowerAndShorter) {
   EXPECT_EQ(a.lift.clearance, 0.04);
   EXPECT_EQ(a.lift.height_gain, 0.8);
   EXPECT_EQ(c.lift.height_gain, 0.0);
+  EXPECT_EQ(a.lift.trailing_clearance, 0.04);
+  EXPECT_EQ(c.lift.trailing_clearance, 0.0);
   EXPECT_EQ(a.planner.over_lift_release, 0.02);
   EXPECT_EQ(a.planner.l_over_max, 0.45);
   // The chapter's walker keeps the library's lift (its planner is off).
@@ -112,6 +114,23 @@ TEST(FootLift, TheClearanceGrowsWithTheObstacleOnlyWithAHeightGain) {
   std::string error;
   EXPECT_FALSE(w.IsValid(&error));
   EXPECT_NE(error.find("lift_height_gain"), std::string::npos) << error;
+}
+
+// The trailing leg's swing gets trailing_clearance on top of the clearance, the step over none.
+TEST(FootLift, TheTrailingLegLiftsHigherByItsOwnClearance) {
+  FootLiftParams p;
+  p.clearance = 0.04;
+  p.height_gain = 0.8;
+  EXPECT_EQ(LiftClearance(p, 0.02, true), 0.04);  // off by default: the same clearance
+  p.trailing_clearance = 0.04;
+  EXPECT_EQ(LiftClearance(p, 0.02, false), 0.04);
+  EXPECT_DOUBLE_EQ(LiftClearance(p, 0.02, true), 0.08);
+  EXPECT_DOUBLE_EQ(LiftClearance(p, 0.07, true), 0.056 + 0.04);  // on top of the height gain
+  WalkerParams w = PresetWalkerParams(WalkerPreset::kAdaptive);
+  w.lift.trailing_clearance = -0.01;
+  std::string error;
+  EXPECT_FALSE(w.IsValid(&error));
+  EXPECT_NE(error.find("lift_trailing_clearance"), std::string::npos) << error;
 }
 
 TEST(FootLift, TheLiftLetsGoOfAJointNoFasterThanItsReleaseRate) {

@@ -44,11 +44,17 @@ struct FootLiftParams {
   // to extend at the pattern's pace while the lift holds it flexed, and it falls through the lift
   // onto the obstacle's near side (LimitLiftRelease; FuzzyCmacWalker::ApplyLift).
   double release_rate = 0.0;  // rad/s
+  // Added to the clearance in the trailing leg's swing (an obstacle between the feet at its
+  // touchdown; m, 0: the same clearance as the step over). The trailing foot starts close behind
+  // the obstacle, low, and lagging the raised point it came down on the obstacle's top.
+  double trailing_clearance = 0.0;
 };
 
-// The lift's clearance above an obstacle `height` m high (m).
-inline double LiftClearance(const FootLiftParams& p, double height) {
-  return p.height_gain > 0.0 ? std::max(p.clearance, p.height_gain * height) : p.clearance;
+// The lift's clearance above an obstacle `height` m high (m), in the trailing leg's swing or not.
+inline double LiftClearance(const FootLiftParams& p, double height, bool trailing = false) {
+  const double c =
+      p.height_gain > 0.0 ? std::max(p.clearance, p.height_gain * height) : p.clearance;
+  return trailing ? c + p.trailing_clearance : c;
 }
 
 // The lift's ramp (0..1) over obstacle o at swing foot abscissa x: in over p.ramp before

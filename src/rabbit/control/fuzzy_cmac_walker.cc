@@ -251,10 +251,11 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   planned_ = plan.active || recovery_left_ > 0;
   // The foot lift is armed for the step over (the planner's, when it plans) and the trailing leg.
   lift_armed_ = plan.active ? plan.approach_steps == 0 : d_obs < p_.lift.d_obs;
+  lift_trailing_ = false;
   if (obs.terrain != nullptr) {
     const double back = obs.foot_pos[1 - step.leg].x();
     for (const Obstacle& o : obs.terrain->obstacles) {
-      if (back < o.x_end() && front > o.x_start) lift_armed_ = true;
+      if (back < o.x_end() && front > o.x_start) lift_armed_ = lift_trailing_ = true;
     }
     if (terrain_steps_.LiftArmed()) lift_armed_ = true;
   }
@@ -282,7 +283,7 @@ double FuzzyCmacWalker::LiftHeight(const Terrain& terrain, double foot_x) const 
     // Above the ground the obstacle stands on (absolute heights: the hip's y is absolute).
     if (a > 0.0) {
       h = std::max(h, terrain.ObstacleBase(static_cast<int>(i)) +
-                          a * (o.height + LiftClearance(p_.lift, o.height)));
+                          a * (o.height + LiftClearance(p_.lift, o.height, lift_trailing_)));
     }
   }
   return h;

@@ -229,6 +229,7 @@ class FuzzyCmacWalker final : public Controller {
   std::uint64_t rng_;
   long periods_ = 0;
   bool lift_armed_ = false;                               // set at each touchdown
+  bool lift_trailing_ = false;  // ... for the trailing leg (an obstacle between the feet)
   Eigen::Vector2d lift_delta_ = Eigen::Vector2d::Zero();  // last lift (hip, knee), rad
   double lift_t_ = -1.0;                                  // its time (-1: none)
   Eigen::Vector2d lift_ref_ = Eigen::Vector2d::Zero();    // last lifted (hip, knee) references

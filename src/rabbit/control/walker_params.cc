@@ -26,6 +26,8 @@ bool WalkerParams::IsValid(std::string* error) const {
                                                    {"lift_ramp", lift.ramp},
                                                    {"lift_release", lift.release},
                                                    {"lift_release_rate", lift.release_rate},
+                                                   {"lift_trailing_clearance",
+                                                    lift.trailing_clearance},
                                                    {"v_m_noise", v_m_noise},
                                                    {"d_obs_noise", d_obs_noise}};
   for (const auto& [name, value] : values) {

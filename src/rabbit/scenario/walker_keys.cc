@@ -298,6 +298,7 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   w.lift.ramp = t->Double("lift_ramp", w.lift.ramp);
   w.lift.release = t->Double("lift_release", w.lift.release);
   w.lift.release_rate = t->Double("lift_release_rate", w.lift.release_rate);
+  w.lift.trailing_clearance = t->Double("lift_trailing_clearance", w.lift.trailing_clearance);
   w.lift.feedback = t->Bool("lift_feedback", w.lift.feedback);
   w.lift.keeps_rules = t->Bool("lift_keeps_rules", w.lift.keeps_rules);
   ReadRecovery(t->Table("recovery"), &w.recovery);
