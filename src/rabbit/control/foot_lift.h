@@ -45,8 +45,8 @@ struct FootLiftParams {
   // onto the obstacle's near side (LimitLiftRelease; FuzzyCmacWalker::ApplyLift).
   double release_rate = 0.0;  // rad/s
   // Added to the clearance in the trailing leg's swing (an obstacle between the feet at its
-  // touchdown; m, 0: the same clearance as the step over). The trailing foot starts close behind
-  // the obstacle, low, and lagging the raised point it came down on the obstacle's top.
+  // touchdown; m, 0: the same clearance as the step over). The trailing foot starts low and close
+  // behind the obstacle, lags the raised point, and without it came down on the obstacle's top.
   double trailing_clearance = 0.0;
 };
 
