@@ -265,6 +265,41 @@ TEST_F(SuiteTest, LiftKeepsRulesIsAControllerKey) {
               "scenario[1].controller.lift_keeps_rules", "");
 }
 
+// The walk starts on the gait the walker walks at V_d(0). At 0.355 m/s the shipped vm_0.40 gait
+// (0.390 m/s measured) is nearer than vm_0.30 (0.303 m/s), but the adaptive walker's gait choice
+// keeps the slowest gait up to 0.75 of the way between them (0.368 m/s), so its walk starts on
+// vm_0.30; the chapter's walker (no gait choice), a named start gait and a command above the
+// switch start on the nearest gait.
+TEST_F(SuiteTest, TheWalkStartsOnTheGaitTheWalkerWalksAtTheFirstCommand) {
+  const std::string scenarios =
+      "database = \"" + kRoot +
+      "/gaits\"\n"
+      "[[scenario]]\nname = \"adaptive\"\n[scenario.velocity]\nvalue = 0.355\n"
+      "[[scenario]]\nname = \"chapter\"\n[scenario.velocity]\nvalue = 0.355\n"
+      "[scenario.controller]\npreset = \"chapter\"\n"
+      "[[scenario]]\nname = \"named\"\n[scenario.velocity]\nvalue = 0.355\n"
+      "[scenario.controller]\nstart_gait = \"vm_0.40\"\n"
+      "[[scenario]]\nname = \"above\"\n[scenario.velocity]\nvalue = 0.372\n";
+  const Suite suite = LoadSuite(Write(Walker(scenarios)));
+  ASSERT_EQ(suite.scenarios.size(), 4u);
+  EXPECT_EQ(suite.scenarios[0].start_gait, "vm_0.30");
+  EXPECT_EQ(suite.scenarios[1].start_gait, "vm_0.40");
+  EXPECT_EQ(suite.scenarios[2].start_gait, "vm_0.40");
+  EXPECT_EQ(suite.scenarios[3].start_gait, "vm_0.40");
+  // The start state, the warm-up and the walker's initial values all come from the start gait
+  // (vm_0.30: trunk pitch -1.5 deg, lock angle 12.5 deg, 0.303 m/s measured).
+  const Scenario& a = suite.scenarios[0];
+  EXPECT_NEAR(a.walking.rules.q0_d, -1.5 * M_PI / 180.0, 1e-12);
+  EXPECT_NEAR(a.walker.warmup.qr1_dsw, 12.5 * M_PI / 180.0, 1e-12);
+  EXPECT_NEAR(a.walker.q0_d_initial, -1.5 * M_PI / 180.0, 1e-12);
+  EXPECT_NEAR(a.walker.v_m_initial, 0.303, 5e-4);
+  EXPECT_NEAR(suite.scenarios[1].walker.v_m_initial, 0.390, 5e-4);
+  // Keys of the scenario are still read over the preset when the start gait is chosen again.
+  const Suite keyed = LoadSuite(Write(Walker("k_p = 0.3\n" + scenarios)));
+  EXPECT_EQ(keyed.scenarios[0].start_gait, "vm_0.30");
+  EXPECT_DOUBLE_EQ(keyed.scenarios[0].walker.k_p, 0.3);
+}
+
 // [suite.targets]: success rates in (0, 1] for families or scenarios of the suite.
 TEST_F(SuiteTest, TargetsNameGroupsOfTheSuite) {
   const std::string family = "[[family]]\nname = \"f\"\ncount = 2\n";

@@ -6,8 +6,9 @@
 //           "multi_cmac"   baseline: the same walker with the gait pattern given by multi-input
 //                          CMACs over (e, V_M, d_obs) trained on the scenario's Fuzzy-CMAC
 //                          (rabbit/learn/multi_cmac_pattern.h);
-//           "pragmatic"    baseline: the pragmatic rules of the start gait (the reference gait
-//                          nearest V_d(0) unless the scenario names one), no velocity control;
+//           "pragmatic"    baseline: the pragmatic rules of the start gait (Scenario::start_gait:
+//                          the gait the walker walks at V_d(0) unless the scenario names one), no
+//                          velocity control;
 //           "main"         any other controller (passive, pd_hold, pragmatic) as the scenario says.
 #ifndef RABBIT_SCENARIO_RUN_H_
 #define RABBIT_SCENARIO_RUN_H_

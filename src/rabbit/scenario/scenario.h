@@ -92,6 +92,8 @@ struct Scenario {
   // The gait pattern's fuzzy system when [controller.sets] changes the FLL file's membership
   // functions (else empty: the FLL file's, from the gait library).
   std::optional<TsFis> fis;
+  // The speed gait the walk starts from (its walking start and warm-up rules, for every variant):
+  // the scenario's `start_gait`, else the gait the main walker walks at V_d(0) (walker_keys.cc).
   std::string start_gait;
   // The per-gait walker settings of the database (walker.csv), by gait name; RunScenario turns
   // them into WalkerParams::rule_share in the gait pattern's order.

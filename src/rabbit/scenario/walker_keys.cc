@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "rabbit/control/rule_gait_choice.h"
 #include "rabbit/control/walker_presets.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/gait/walker_settings.h"
@@ -372,6 +373,28 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   if (!w.IsValid(&error)) t->Fail("", error);
 }
 
+// The speed gait whose measured V_M the walker's gait choice moves v0 to, or null where it leaves
+// v0 as it is (docs/design.md, "The walker": the start).
+const GaitIndexEntry* ChosenStartGait(const std::vector<GaitIndexEntry>& index,
+                                      const std::map<std::string, GaitWalkerSettings>& settings,
+                                      double v0, double mixed_below, double mixed_point) {
+  std::vector<const GaitIndexEntry*> gaits;
+  std::vector<double> speeds, shares;
+  for (const GaitIndexEntry& e : index) {
+    if (e.role != GaitRole::kSpeed) continue;
+    const auto it = settings.find(e.name);
+    gaits.push_back(&e);
+    speeds.push_back(e.measured_v_m);
+    shares.push_back(it == settings.end() ? 0.0 : it->second.rule_share);
+  }
+  const double v = ChooseRuleGait(v0, speeds, shares, mixed_below, mixed_point);
+  if (v == v0) return nullptr;
+  for (size_t i = 0; i < gaits.size(); ++i) {
+    if (speeds[i] == v) return gaits[i];
+  }
+  return nullptr;
+}
+
 }  // namespace
 
 // type = "fuzzy_cmac": the chapter's walker (see FuzzyCmacWalker). Reads the gait database to
@@ -418,8 +441,9 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
     t->Fail("gaits", "the gait database " + f.gaits + " lists no speed gait");
   }
   s->start_gait = t->String("start_gait", "");
+  const bool start_given = !s->start_gait.empty();
   const GaitIndexEntry* start = nullptr;
-  if (s->start_gait.empty()) {
+  if (!start_given) {
     const double v0 = s->velocity.At(0.0);
     for (const GaitIndexEntry& e : index) {
       if (e.role != GaitRole::kSpeed) continue;  // the walker starts from a speed gait
@@ -434,11 +458,12 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
     }
     if (start == nullptr) t->Fail("start_gait", "no gait \"" + s->start_gait + "\" in " + f.gaits);
   }
-  const auto gait_file =
-      CachedRead<GaitRecord>((std::filesystem::path(f.gaits) / start->file).string(),
-                             [](const std::string& p) { return ReadGaitFile(p); });
-  const GaitRecord& gait = *gait_file;
-  s->walking = gait.spec;
+  const auto read_gait = [&f](const GaitIndexEntry& e) {
+    return CachedRead<GaitRecord>((std::filesystem::path(f.gaits) / e.file).string(),
+                                  [](const std::string& p) { return ReadGaitFile(p); });
+  };
+  auto gait_file = read_gait(*start);
+  s->walking = gait_file->spec;
   // The preset the keys are read over (walker_presets.h); a baseline "chapter" is the chapter's
   // preset read with the same keys.
   const std::string preset_name = t->String("preset", "adaptive");
@@ -454,10 +479,10 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
     w.v_m_noise = s->walker.v_m_noise;
     w.d_obs_noise = s->walker.d_obs_noise;
     w.seed = s->walker.seed;
-    w.warmup = gait.spec.rules;
-    w.q0_d_initial = gait.spec.rules.q0_d;
-    w.v_m_initial = gait.measured.v_m;
-    w.warmup_l_step = gait.measured.l_step;
+    w.warmup = gait_file->spec.rules;
+    w.q0_d_initial = gait_file->spec.rules.q0_d;
+    w.v_m_initial = gait_file->measured.v_m;
+    w.warmup_l_step = gait_file->measured.l_step;
     return w;
   };
   s->walker = preset_walker(preset);
@@ -485,6 +510,23 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
     }
   }
   if (!gait_rules) s->gait_settings.clear();
+  // Unless the scenario names it, the walk starts on the gait the walker walks at V_d(0): the
+  // nearest by measured V_M, or the other gait of a pair where the walker's gait choice
+  // (rule_gait_choice.h) moves V_d(0) to it. Started on the nearest gait and handed over to the
+  // other, the walker's first strides are those of neither.
+  if (!start_given && s->walker.rule_gait_choice) {
+    const GaitIndexEntry* chosen = ChosenStartGait(index, s->gait_settings, s->velocity.At(0.0),
+                                                   s->walker.rule_gait_choice_mixed_below,
+                                                   s->walker.rule_gait_choice_mixed_point);
+    if (chosen != nullptr && chosen->name != s->start_gait) {
+      s->start_gait = chosen->name;
+      gait_file = read_gait(*chosen);
+      s->walking = gait_file->spec;
+      s->walker = preset_walker(preset);
+      TomlReader unobserved = t->WithObserver(nullptr);  // the keys were read (and seen) above
+      ReadWalkerKeys(&unobserved, s->model, &s->walker);
+    }
+  }
   s->baselines = t->Strings("baselines", {});
   for (size_t i = 0; i < s->baselines.size(); ++i) {
     const std::string& b = s->baselines[i];
