@@ -193,10 +193,15 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   // The known change of grade ahead, and whether the ground around the feet is level.
   const GradeView grade = GradeAround(obs.terrain, landing, other_foot, step.l_step);
   const bool level = std::abs(slope_.slope()) < 0.02 && grade.level;  // for the push response
-  slope_.OnTouchdown(
-      obs.terrain != nullptr ? terrain_steps_.LevelledLanding(*obs.terrain, landing, other_foot)
-                             : landing,
-      other_foot, grade.change);
+  Vec2 other_seen = other_foot;
+  if (p_.slope.touchdown_heights && std::isfinite(touchdown_y_[1 - step.leg])) {
+    other_seen.y() = touchdown_y_[1 - step.leg];
+  }
+  touchdown_y_[step.leg] = landing.y();
+  slope_.OnTouchdown(obs.terrain != nullptr
+                         ? terrain_steps_.LevelledLanding(*obs.terrain, landing, other_seen)
+                         : landing,
+                     other_seen, grade.change);
   if (obs.terrain != nullptr) {
     terrain_steps_.OnTouchdown(*obs.terrain, obs.t, obs.foot_pos[step.leg], other_foot);
   }
@@ -211,9 +216,9 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   // The command the walker acts on (V_d itself unless velocity_control is enabled): the terrain's
   // speed command (slope, obstacle and step approach speeds), rate-limited; a step down of the
   // profile's own V_d is a drop (velocity_control.h).
-  const double v_c = speed_.Command(
-      TerrainSpeedCommand(obs.terrain, slope_, p_.planner, terrain_steps_, v_d, landing, other_foot),
-      v_m_, v_d);
+  const double v_c = speed_.Command(TerrainSpeedCommand(obs.terrain, slope_, p_.planner,
+                                                        terrain_steps_, v_d, landing, other_foot),
+                                    v_m_, v_d);
   response_.Command(v_c, level);
   watch_.Command(v_c, level);
   choice_.OnCommand(v_c);
@@ -397,8 +402,8 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
   }
   const int swing = 1 - stance_;
   if (meter_.Update(obs) && meter_.last_step().leg == swing &&
-      (obs.foot_pos[swing].x() > obs.foot_pos[stance_].x() ||
-       recovery_.AcceptsLandingBehind(obs) || response_.Catching())) {
+      (obs.foot_pos[swing].x() > obs.foot_pos[stance_].x() || recovery_.AcceptsLandingBehind(obs) ||
+       response_.Catching())) {
     stance_ = swing;
     swing_start_ = obs.t;
     std::fill(rule_states_.begin(), rule_states_.end(), RuleState{});

@@ -66,6 +66,8 @@ struct SlopeParams {
   double overshoot_margin = 0.1;  // m/s of V_M above V_d before the speed cap acts
   double overshoot_gain = 0.0;    // rad of q0_d per m/s of excess
   double preview = 1.0;           // share of the known change of grade ahead, [0, 2]
+  // The other foot's height as it was at its own touchdown (true) or as it is now (false).
+  bool touchdown_heights = false;
   // Off here (the adaptive preset sets 1 and 3: walker_presets.cc).
   double uphill_boost = 0.0;     // m/s of the speed command per rad of uphill grade ahead
   double downhill_brake = 0.0;   // m/s taken off the speed command per rad of downhill grade ahead

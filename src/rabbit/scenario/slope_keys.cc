@@ -28,6 +28,7 @@ void ReadSlopeKeys(TomlReader r, SlopeParams* p) {
   p->overshoot_margin = bounded("overshoot_margin", p->overshoot_margin, 0.0, 10.0);
   p->overshoot_gain = bounded("overshoot_gain", p->overshoot_gain, 0.0, 10.0);
   p->preview = bounded("preview", p->preview, 0.0, 2.0);
+  p->touchdown_heights = r.Bool("touchdown_heights", p->touchdown_heights);
   p->uphill_boost = bounded("uphill_boost", p->uphill_boost, 0.0, 10.0);
   p->downhill_brake = bounded("downhill_brake", p->downhill_brake, 0.0, 10.0);
   p->speed_lookahead = bounded("speed_lookahead", p->speed_lookahead, 0.0, 10.0);
