@@ -47,6 +47,34 @@ TEST(GaitMeterTest, AStepBackwardHasANegativeLengthAndVelocity) {
   EXPECT_NEAR(meter.last_step().v_m, -0.82, kTolerance);
 }
 
+TEST(GaitMeterTest, RemembersEachFootsHeightAtItsOwnTouchdown) {
+  // The slope perception's touchdown heights: a loaded foot sinks after it lands, and the record
+  // keeps the height it landed at, not the one it has at the other foot's touchdown.
+  GaitMeter meter;
+  Observation o = At(0.0, true, true, 0.0, -0.3);
+  meter.Update(o);
+  EXPECT_EQ(meter.LastLanding(0), nullptr);
+  EXPECT_EQ(meter.LastLanding(1), nullptr);
+  o = At(0.1, true, false, 0.0, -0.3);
+  meter.Update(o);
+  o = At(0.5, true, true, 0.0, 0.3);
+  o.foot_pos[1].y() = 0.010;  // lands 1 cm up
+  ASSERT_TRUE(meter.Update(o));
+  EXPECT_EQ(meter.last_step().y, 0.010);
+  o = At(0.6, false, true, 0.0, 0.3);
+  o.foot_pos[1].y() = 0.007;  // loaded, sunk 3 mm
+  meter.Update(o);
+  o = At(1.0, true, true, 0.6, 0.3);
+  o.foot_pos[0].y() = 0.020;
+  o.foot_pos[1].y() = 0.007;
+  ASSERT_TRUE(meter.Update(o));
+  ASSERT_NE(meter.LastLanding(1), nullptr);
+  EXPECT_EQ(meter.LastLanding(1)->y, 0.010);
+  EXPECT_EQ(meter.LastLanding(1)->index, 0);
+  EXPECT_EQ(meter.LastLanding(0)->y, 0.020);
+  EXPECT_EQ(meter.LastLanding(0), &meter.last_step());
+}
+
 TEST(GaitMeterTest, FootInTheAirAtTheStartLandsWithoutAStepTime) {
   GaitMeter meter;
   meter.Update(At(0.0, true, false, 0.0, -0.3));  // leg 2 already in the air: take-off unseen

@@ -193,11 +193,10 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   // The known change of grade ahead, and whether the ground around the feet is level.
   const GradeView grade = GradeAround(obs.terrain, landing, other_foot, step.l_step);
   const bool level = std::abs(slope_.slope()) < 0.02 && grade.level;  // for the push response
+  // With slope.touchdown_heights the other foot's height as it was at its own touchdown.
   Vec2 other_seen = other_foot;
-  if (p_.slope.touchdown_heights && std::isfinite(touchdown_y_[1 - step.leg])) {
-    other_seen.y() = touchdown_y_[1 - step.leg];
-  }
-  touchdown_y_[step.leg] = landing.y();
+  const StepRecord* other_landing = meter_.LastLanding(1 - step.leg);
+  if (p_.slope.touchdown_heights && other_landing != nullptr) other_seen.y() = other_landing->y;
   slope_.OnTouchdown(obs.terrain != nullptr
                          ? terrain_steps_.LevelledLanding(*obs.terrain, landing, other_seen)
                          : landing,

@@ -23,7 +23,6 @@
 #define RABBIT_CONTROL_FUZZY_CMAC_WALKER_H_
 
 #include <cstdint>
-#include <limits>
 #include <memory>
 #include <string>
 #include <utility>
@@ -232,9 +231,6 @@ class FuzzyCmacWalker final : public Controller {
   bool lift_armed_ = false;                               // set at each touchdown
   bool lift_trailing_ = false;  // ... for the trailing leg (an obstacle between the feet)
   Eigen::Vector2d lift_delta_ = Eigen::Vector2d::Zero();  // last lift (hip, knee), rad
-  // Each foot's height at its last touchdown (NaN before its first).
-  double touchdown_y_[2] = {std::numeric_limits<double>::quiet_NaN(),
-                            std::numeric_limits<double>::quiet_NaN()};
   double lift_t_ = -1.0;                                  // its time (-1: none)
   Eigen::Vector2d lift_ref_ = Eigen::Vector2d::Zero();    // last lifted (hip, knee) references
   bool lift_raised_ = false;  // the obstacle lift has raised this swing (lift_release_rate)

@@ -22,6 +22,7 @@ bool GaitMeter::Update(const Observation& obs) {
       step.leg = leg;
       step.t_touchdown = obs.t;
       step.x = obs.foot_pos[leg].x();
+      step.y = obs.foot_pos[leg].y();
       step.l_step = obs.foot_pos[leg].x() - obs.foot_pos[1 - leg].x();  // < 0: landed behind
       step.t_step = takeoff_[leg] >= 0.0 ? obs.t - takeoff_[leg] : 0.0;
       step.v_m = step.t_step > 0.0 ? step.l_step / step.t_step : 0.0;
@@ -31,6 +32,13 @@ bool GaitMeter::Update(const Observation& obs) {
     contact_[leg] = now;
   }
   return landed;
+}
+
+const StepRecord* GaitMeter::LastLanding(int leg) const {
+  for (auto it = steps_.rbegin(); it != steps_.rend(); ++it) {
+    if (it->leg == leg) return &*it;
+  }
+  return nullptr;
 }
 
 }  // namespace rabbit

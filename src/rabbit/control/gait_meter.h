@@ -20,6 +20,7 @@ struct StepRecord {
   double t_step = 0;       // s (0 when that leg's take-off was not seen)
   double v_m = 0;          // m/s, signed as l_step (0 when t_step is 0)
   double x = 0;            // m, where the landing foot touched down
+  double y = 0;            // m, its height there (unloaded: the contact has not sunk it yet)
 };
 
 class GaitMeter {
@@ -30,6 +31,8 @@ class GaitMeter {
   bool Update(const Observation& obs);
   const std::vector<StepRecord>& steps() const { return steps_; }
   const StepRecord& last_step() const { return steps_.back(); }
+  // The latest touchdown of `leg`, or null before its first.
+  const StepRecord* LastLanding(int leg) const;
   bool in_contact(int leg) const { return contact_[leg]; }
   double takeoff_time(int leg) const { return takeoff_[leg]; }
   double min_air_time = 0.05;  // s
