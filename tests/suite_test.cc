@@ -298,6 +298,14 @@ TEST_F(SuiteTest, TheWalkStartsOnTheGaitTheWalkerWalksAtTheFirstCommand) {
   const Suite keyed = LoadSuite(Write(Walker("k_p = 0.3\n" + scenarios)));
   EXPECT_EQ(keyed.scenarios[0].start_gait, "vm_0.30");
   EXPECT_DOUBLE_EQ(keyed.scenarios[0].walker.k_p, 0.3);
+  // The effective settings a tuning job reports are those of the gait the walk starts on.
+  std::vector<std::map<std::string, double>> settings;
+  LoadSuite(Write(Walker(scenarios)), nullptr, &settings);
+  ASSERT_EQ(settings.size(), 4u);
+  EXPECT_NEAR(settings[0].at("controller.q0_d_initial_deg"), -1.5, 1e-12);
+  EXPECT_NEAR(settings[0].at("controller.v_m_initial"), a.walker.v_m_initial, 1e-12);
+  EXPECT_NEAR(settings[3].at("controller.v_m_initial"), suite.scenarios[3].walker.v_m_initial,
+              1e-12);
 }
 
 // [suite.targets]: success rates in (0, 1] for families or scenarios of the suite.

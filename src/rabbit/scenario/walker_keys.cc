@@ -253,8 +253,8 @@ void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
   r.Finish();
 }
 
-// The walker's own keys of [controller], read over *w (a preset's settings, with the start gait's
-// warm-up rules, trunk pitch and V_M).
+// The walker's own keys of [controller] but the start's (StartOnGait), read over *w (a preset's
+// settings). Its settings are checked once the start gait's are in.
 void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walker) {
   WalkerParams& w = *walker;
   w.warmup_steps = static_cast<int>(t->Integer("warmup_steps", w.warmup_steps, 0, 1000));
@@ -273,8 +273,6 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   w.k_v = t->Double("k_v", w.k_v);
   w.q0_d_min = t->Double("q0_d_min_deg", w.q0_d_min / kDeg) * kDeg;
   w.q0_d_max = t->Double("q0_d_max_deg", w.q0_d_max / kDeg) * kDeg;
-  w.q0_d_initial = t->Double("q0_d_initial_deg", w.q0_d_initial / kDeg) * kDeg;
-  w.v_m_initial = t->Double("v_m_initial", w.v_m_initial);
   w.v_m_average_steps =
       static_cast<int>(t->Integer("v_m_average_steps", w.v_m_average_steps, 1, 100));
   w.fis_v_lead = t->Double("fis_v_lead", w.fis_v_lead);
@@ -361,15 +359,25 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
       pt.Fail(key, planner_error);
     }
   }
-  std::string error;
-  // The start gait's pitch (the default q0_d_initial) is clamped into the range; a given one must
-  // lie in it.
   if (!(w.q0_d_min <= w.q0_d_max)) t->Fail("q0_d_min_deg", "must be <= q0_d_max_deg");
+}
+
+// The start gait's settings of the walker: its warm-up rules and step length, and, unless the
+// scenario gives q0_d_initial_deg or v_m_initial, its trunk pitch (clamped into the walker's
+// range) and V_M. Then the walker's settings are checked.
+void StartOnGait(TomlReader* t, const GaitRecord& gait, WalkerParams* walker) {
+  WalkerParams& w = *walker;
+  w.warmup = gait.spec.rules;
+  w.warmup_l_step = gait.measured.l_step;
+  w.q0_d_initial = t->Double("q0_d_initial_deg", gait.spec.rules.q0_d / kDeg) * kDeg;
+  w.v_m_initial = t->Double("v_m_initial", gait.measured.v_m);
+  // A given pitch must lie in the range.
   if (t->Has("q0_d_initial_deg") &&
       !(w.q0_d_initial >= w.q0_d_min && w.q0_d_initial <= w.q0_d_max)) {
     t->Fail("q0_d_initial_deg", "must lie in [q0_d_min_deg, q0_d_max_deg]");
   }
-  w.q0_d_initial = std::clamp(w.q0_d_initial, w.q0_d_min, w.q0_d_max);  // the start gait's pitch
+  w.q0_d_initial = std::clamp(w.q0_d_initial, w.q0_d_min, w.q0_d_max);
+  std::string error;
   if (!w.IsValid(&error)) t->Fail("", error);
 }
 
@@ -440,30 +448,6 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
   if (GaitsOfRole(index, GaitRole::kSpeed).empty()) {
     t->Fail("gaits", "the gait database " + f.gaits + " lists no speed gait");
   }
-  s->start_gait = t->String("start_gait", "");
-  const bool start_given = !s->start_gait.empty();
-  const GaitIndexEntry* start = nullptr;
-  if (!start_given) {
-    const double v0 = s->velocity.At(0.0);
-    for (const GaitIndexEntry& e : index) {
-      if (e.role != GaitRole::kSpeed) continue;  // the walker starts from a speed gait
-      if (start == nullptr || std::abs(e.measured_v_m - v0) < std::abs(start->measured_v_m - v0)) {
-        start = &e;
-      }
-    }
-    s->start_gait = start->name;
-  } else {
-    for (const GaitIndexEntry& e : index) {
-      if (e.name == s->start_gait) start = &e;
-    }
-    if (start == nullptr) t->Fail("start_gait", "no gait \"" + s->start_gait + "\" in " + f.gaits);
-  }
-  const auto read_gait = [&f](const GaitIndexEntry& e) {
-    return CachedRead<GaitRecord>((std::filesystem::path(f.gaits) / e.file).string(),
-                                  [](const std::string& p) { return ReadGaitFile(p); });
-  };
-  auto gait_file = read_gait(*start);
-  s->walking = gait_file->spec;
   // The preset the keys are read over (walker_presets.h); a baseline "chapter" is the chapter's
   // preset read with the same keys.
   const std::string preset_name = t->String("preset", "adaptive");
@@ -479,10 +463,6 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
     w.v_m_noise = s->walker.v_m_noise;
     w.d_obs_noise = s->walker.d_obs_noise;
     w.seed = s->walker.seed;
-    w.warmup = gait_file->spec.rules;
-    w.q0_d_initial = gait_file->spec.rules.q0_d;
-    w.v_m_initial = gait_file->measured.v_m;
-    w.warmup_l_step = gait_file->measured.l_step;
     return w;
   };
   s->walker = preset_walker(preset);
@@ -510,23 +490,38 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
     }
   }
   if (!gait_rules) s->gait_settings.clear();
-  // Unless the scenario names it, the walk starts on the gait the walker walks at V_d(0): the
-  // nearest by measured V_M, or the other gait of a pair where the walker's gait choice
+  // The start gait: the one the scenario names, or else the gait the walker walks at V_d(0): the
+  // nearest speed gait by measured V_M, or the other gait of a pair where the walker's gait choice
   // (rule_gait_choice.h) moves V_d(0) to it. Started on the nearest gait and handed over to the
   // other, the walker's first strides are those of neither.
-  if (!start_given && s->walker.rule_gait_choice) {
-    const GaitIndexEntry* chosen = ChosenStartGait(index, s->gait_settings, s->velocity.At(0.0),
-                                                   s->walker.rule_gait_choice_mixed_below,
-                                                   s->walker.rule_gait_choice_mixed_point);
-    if (chosen != nullptr && chosen->name != s->start_gait) {
-      s->start_gait = chosen->name;
-      gait_file = read_gait(*chosen);
-      s->walking = gait_file->spec;
-      s->walker = preset_walker(preset);
-      TomlReader unobserved = t->WithObserver(nullptr);  // the keys were read (and seen) above
-      ReadWalkerKeys(&unobserved, s->model, &s->walker);
+  s->start_gait = t->String("start_gait", "");
+  const GaitIndexEntry* start = nullptr;
+  if (s->start_gait.empty()) {
+    const double v0 = s->velocity.At(0.0);
+    for (const GaitIndexEntry& e : index) {
+      if (e.role != GaitRole::kSpeed) continue;  // the walker starts from a speed gait
+      if (start == nullptr || std::abs(e.measured_v_m - v0) < std::abs(start->measured_v_m - v0)) {
+        start = &e;
+      }
     }
+    if (s->walker.rule_gait_choice) {
+      const GaitIndexEntry* chosen =
+          ChosenStartGait(index, s->gait_settings, v0, s->walker.rule_gait_choice_mixed_below,
+                          s->walker.rule_gait_choice_mixed_point);
+      if (chosen != nullptr) start = chosen;
+    }
+    s->start_gait = start->name;
+  } else {
+    for (const GaitIndexEntry& e : index) {
+      if (e.name == s->start_gait) start = &e;
+    }
+    if (start == nullptr) t->Fail("start_gait", "no gait \"" + s->start_gait + "\" in " + f.gaits);
   }
+  const auto gait_file = CachedRead<GaitRecord>(
+      (std::filesystem::path(f.gaits) / start->file).string(),
+      [](const std::string& p) { return ReadGaitFile(p); });
+  s->walking = gait_file->spec;
+  StartOnGait(t, *gait_file, &s->walker);
   s->baselines = t->Strings("baselines", {});
   for (size_t i = 0; i < s->baselines.size(); ++i) {
     const std::string& b = s->baselines[i];
@@ -544,9 +539,11 @@ void ReadFuzzyCmac(TomlReader* t, Scenario* s, const std::string& database_overr
       t->Fail("baselines", "\"chapter\" is the main walker here (preset = \"chapter\")");
     }
     s->chapter_walker = preset_walker(WalkerPreset::kChapter);
-    // Without the observer: the settings a tuning job sees are the main walker's.
+    // Without the observer: the settings a tuning job sees are the main walker's. The chapter's
+    // walker starts on the main walker's start gait.
     TomlReader unobserved = t->WithObserver(nullptr);
     ReadWalkerKeys(&unobserved, s->model, &s->chapter_walker);
+    StartOnGait(&unobserved, *gait_file, &s->chapter_walker);
   }
   s->multi_cmac = ReadMultiCmac(t->Table("multi_cmac"));
   t->Finish();
