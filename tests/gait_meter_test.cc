@@ -73,6 +73,15 @@ TEST(GaitMeterTest, RemembersEachFootsHeightAtItsOwnTouchdown) {
   EXPECT_EQ(meter.LastLanding(1)->index, 0);
   EXPECT_EQ(meter.LastLanding(0)->y, 0.020);
   EXPECT_EQ(meter.LastLanding(0), &meter.last_step());
+  // Leg 2 lands again: its latest landing, not its first, is the one kept.
+  o = At(1.1, true, false, 0.6, 0.3);
+  meter.Update(o);
+  o = At(1.5, true, true, 0.6, 0.9);
+  o.foot_pos[1].y() = 0.030;
+  ASSERT_TRUE(meter.Update(o));
+  EXPECT_EQ(meter.LastLanding(1)->index, 2);
+  EXPECT_EQ(meter.LastLanding(1)->y, 0.030);
+  EXPECT_EQ(meter.LastLanding(0)->index, 1);
 }
 
 TEST(GaitMeterTest, FootInTheAirAtTheStartLandsWithoutAStepTime) {
