@@ -1,6 +1,6 @@
 // rabbit-gait against MuJoCo on the same robot (tests/mujoco_model.h builds the MJCF):
 //   Standing/*  10 s standing with pd_hold (scenarios/standing_pd_hold.toml): our Simulate
-//               (SUNDIALS, compliant contact of docs/design.md) versus MuJoCo with a ground
+//               (SUNDIALS, compliant contact of docs/design/model.md) versus MuJoCo with a ground
 //               plane, soft contacts (defaults, friction 0.8), timestep 1 ms, the same PD law and
 //               actuator saturation applied through qfrc_applied at every step from the same
 //               initial state (Euler and RK4; and Euler with 10 noslip iterations, since MuJoCo's

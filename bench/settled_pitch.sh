@@ -3,8 +3,8 @@
 # ground, and the mean q0_d and stride V_M of its last 10 steps (steps.csv). The velocity
 # control's feed-forward and start use a pitch map (controller.velocity_control.pitch_map_deg;
 # the gaits' own by default); this is the map the walker itself would give. The second argument
-# sets [controller.slope] touchdown_heights (docs/design.md, "Slope adaptation"), the third the
-# speeds.
+# sets [controller.slope] touchdown_heights (docs/design/slope.md, "Slope adaptation"), the
+# third the speeds.
 #
 #   bash bench/settled_pitch.sh [BUILD_DIR] [false|true] ["0.30 0.40 ..."]
 set -euo pipefail

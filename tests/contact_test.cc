@@ -1,5 +1,5 @@
-// Contact law (chapter eqs. 2-5 with the corrections of docs/design.md), its guards and transitions, and the
-// terrain geometry.
+// Contact law (chapter eqs. 2-5 with the corrections of docs/design/model.md), its guards and
+// transitions, and the terrain geometry.
 #include "rabbit/contact/contact.h"
 
 #include <gtest/gtest.h>

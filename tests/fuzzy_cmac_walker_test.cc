@@ -214,10 +214,10 @@ TEST(FuzzyCmacWalkerTest, NearestGaitSwitchingKeepsOneGait) {
   EXPECT_TRUE(w[3] == 1.0 || w[4] == 1.0);
 }
 
-// Rule share (docs/design.md, "The walker"): gait 3 alone (weight 1) with share r gives the swing
-// (1 - r) PD + r (its rules' torques), and the stance knee the mix of the walker's and the gait's
-// gains. At t = 0.1 s of the swing the rules' hip is in its pulse and the knee free; once the
-// thighs open past qr1_dsw, the hip locks with the gait's PD.
+// Rule share (docs/design/walker.md, "The walker"): gait 3 alone (weight 1) with share r gives the
+// swing (1 - r) PD + r (its rules' torques), and the stance knee the mix of the walker's and the
+// gait's gains. At t = 0.1 s of the swing the rules' hip is in its pulse and the knee free; once
+// the thighs open past qr1_dsw, the hip locks with the gait's PD.
 TEST(FuzzyCmacWalkerTest, RuleShareMixesTrackingAndTheGaitsOwnRules) {
   WalkerParams p;
   p.warmup_steps = 0;

@@ -1,4 +1,4 @@
-// Cross-check of the RABBIT dynamics against MuJoCo on the same robot (docs/design.md):
+// Cross-check of the RABBIT dynamics against MuJoCo on the same robot (docs/design/model.md):
 // M(q), h(q, qd), kinetic and potential energy, forward dynamics, foot kinematics and Jacobians at
 // random states, for the documented parameters and for non-default ones.
 #include <gtest/gtest.h>

@@ -1,6 +1,6 @@
 // Model: M(q) symmetric positive definite; M and h against finite differences of an independent
-// Lagrangian written straight from the axis conventions of docs/design.md; Jacobians against finite
-// differences; torque sign conventions.
+// Lagrangian written straight from the axis conventions of docs/design/model.md; Jacobians against
+// finite differences; torque sign conventions.
 #include "rabbit/model/model.h"
 
 #include <gtest/gtest.h>
@@ -13,10 +13,11 @@
 namespace rabbit {
 namespace {
 
-// Reference kinematics written independently of model.cc, from docs/design.md, "Coordinates and signs": trunk axis
-// (sin q0, cos q0); thigh axis (sin th, -cos th), th = qi1 - q0; shin axis (sin sh, -cos sh),
-// sh = th + qi2. Returns the CoM of body b (0 trunk, 1 thigh1, 2 shin1, 3 thigh2, 4 shin2).
-// Templated on the scalar so that complex-step differentiation gives exact velocities.
+// Reference kinematics written independently of model.cc, from docs/design/model.md, "Coordinates
+// and signs": trunk axis (sin q0, cos q0); thigh axis (sin th, -cos th), th = qi1 - q0; shin axis
+// (sin sh, -cos sh), sh = th + qi2. Returns the CoM of body b (0 trunk, 1 thigh1, 2 shin1, 3
+// thigh2, 4 shin2). Templated on the scalar so that complex-step differentiation gives exact
+// velocities.
 template <typename T>
 Eigen::Matrix<T, 2, 1> RefCom(const ModelParams& p, const Eigen::Matrix<T, 7, 1>& q, int body) {
   using std::cos;
@@ -242,9 +243,9 @@ TEST(ModelTest, StandingStraightGeometry) {
 }
 
 TEST(ModelTest, PositiveHipTorqueTiltsTrunkForwardAndSwingsThighForward) {
-  // docs/design.md: with the stance thigh held, a positive stance-hip torque increases q0. In free
-  // flight at rest without gravity, the torque turns the thigh counter-clockwise (knee forward)
-  // and, by reaction, the trunk clockwise (q0 increases).
+  // docs/design/model.md: with the stance thigh held, a positive stance-hip torque increases q0. In
+  // free flight at rest without gravity, the torque turns the thigh counter-clockwise (knee
+  // forward) and, by reaction, the trunk clockwise (q0 increases).
   ModelParams p;
   p.gravity = 0.0;
   const Model model(p);

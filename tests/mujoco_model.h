@@ -1,5 +1,5 @@
 // The RABBIT model rebuilt in MuJoCo (MJCF), as an independent reference for tests and benchmarks
-// (docs/design.md: M, h and the energy checked against MuJoCo on the same model).
+// (docs/design/model.md: M, h and the energy checked against MuJoCo on the same model).
 //
 // Coordinate mapping: our q = [x, y, q0, q11, q12, q21, q22] is MuJoCo's qpos one-to-one, and qd
 // is qvel (MuJoCo's z is our y; MuJoCo's y axis points out of our sagittal plane):

@@ -216,9 +216,9 @@ TEST_P(SimulatorTest, StandingOnAProfileInclineBalancesGravityOrSlides) {
 
 // (3) Energy on the profile: a passive collapse onto a 10 deg incline with little contact damping
 // (touchdowns while moving, sliding, sticking, knees folding). With no torque, kinetic + potential
-// + contact spring energy can only fall, but for the anchor rule's one source (docs/design.md):
-// when slip stops, the tangential spring is loaded with 0.5 k_t stretch^2, the stretch measured
-// along the surface. Sample by sample, within the integrator's error.
+// + contact spring energy can only fall, but for the anchor rule's one source
+// (docs/design/model.md): when slip stops, the tangential spring is loaded with 0.5 k_t stretch^2,
+// the stretch measured along the surface. Sample by sample, within the integrator's error.
 TEST_P(SimulatorTest, PassiveMotionOnAProfileSlopeOnlyLosesEnergy) {
   const double kSlope = 10.0 * kDeg;
   const Model model{ModelParams{}};

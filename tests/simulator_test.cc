@@ -1,6 +1,6 @@
-// Simulator: energy conservation and dissipation, the contact acceptance numbers of docs/design.md
-// (drop, standing slip, slope), event location, actuator saturation, obstacles, failures and
-// determinism. Most tests run with both integrators.
+// Simulator: energy conservation and dissipation, the contact acceptance numbers of
+// docs/design/model.md (drop, standing slip, slope), event location, actuator saturation,
+// obstacles, failures and determinism. Most tests run with both integrators.
 #include "rabbit/sim/simulator.h"
 
 #include <gtest/gtest.h>

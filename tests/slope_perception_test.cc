@@ -72,7 +72,8 @@ TEST_F(SlopePerceptionTest, TouchdownHeightsWalkTheRulesSpeedOnFlatGround) {
 }
 
 TEST_F(SlopePerceptionTest, TheShippedWalkerReadsTheFeetUnderLoad) {
-  // The shipped settings were tuned with the loaded reading (docs/design.md, "Slope adaptation").
+  // The shipped settings were tuned with the loaded reading (docs/design/slope.md, "Slope
+  // adaptation").
   const Scenario s = LoadScenario(
       Write("w.toml", std::string("[simulation]\nduration = 1.0\n[velocity]\nvalue = "
                                   "0.6\n[controller]\ntype = \"fuzzy_cmac\"\ndatabase = \"") +

@@ -23,7 +23,7 @@ class StepApproachTest : public testing::ScratchDirTest {
   // The knee's gated extension and the one-step lean of the adaptive preset are set back to the
   // library's (timed extension, two steps of lean), the walker the approach was chosen with: this
   // tests the approach alone (one member at 0.42 m/s stalls on the step with both, as others
-  // pass instead; the figures over the training members are in docs/design.md).
+  // pass instead; the figures over the training members are in docs/design/steps.md).
   RunOutput Run(const std::string& terrain, double v_d, double duration, bool approach) {
     std::string text = "[simulation]\nduration = " + std::to_string(duration) +
                        "\n[velocity]\nvalue = " + std::to_string(v_d) + "\n[terrain]\n" + terrain +

@@ -1,5 +1,5 @@
 // Terrain: the ground, a piecewise-linear height profile (flat y = 0 by default) with vertical
-// steps, plus rectangular obstacles standing on flat parts of it (docs/design.md, "Contact").
+// steps, plus rectangular obstacles standing on flat parts of it (docs/design/model.md, "Contact").
 #ifndef RABBIT_CONTACT_TERRAIN_H_
 #define RABBIT_CONTACT_TERRAIN_H_
 

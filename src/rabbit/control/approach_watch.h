@@ -1,9 +1,9 @@
 // A push on the approach to an obstacle (beyond the chapter; key planner.push_dead,
-// docs/design.md "The step planner"). The step planner corrects the step-length fuzzy system's
-// input by a bias fed from each planned step's length error (step_planner.h): the realised step
-// of a blend differs from the gaits' own. A push on the approach makes a step short or long for
-// reasons the blend has nothing to do with, and the bias it feeds asks for the opposite error of
-// the next steps, once the walk has settled (a backward push's short step asked for long steps
+// docs/design/step-planner.md "The step planner"). The step planner corrects the step-length fuzzy
+// system's input by a bias fed from each planned step's length error (step_planner.h): the realised
+// step of a blend differs from the gaits' own. A push on the approach makes a step short or long
+// for reasons the blend has nothing to do with, and the bias it feeds asks for the opposite error
+// of the next steps, once the walk has settled (a backward push's short step asked for long steps
 // that landed the last approach foot at the obstacle's edge).
 //
 // The watch measures the disturbance step to step: d = v_orb - v_ref(s), the pendulum's hip

@@ -50,7 +50,7 @@ namespace rabbit {
 struct WalkerParams {
   // PD gains (N m/rad, N m s/rad): swing hip (eq. 21), swing knee (eq. 22), stance knee (eq. 23),
   // trunk through the stance hip (eq. 24).
-  // Defaults: chosen by a sweep of the paper suite's ramp (docs/design.md, "The walker").
+  // Defaults: chosen by a sweep of the paper suite's ramp (docs/design/walker.md, "The walker").
   double hip_kp = 350.0, hip_kd = 25.0;
   double knee_kp = 350.0, knee_kd = 20.0;
   double stance_knee_kp = 900.0, stance_knee_kd = 35.0;
@@ -78,7 +78,8 @@ struct WalkerParams {
   //   tau_swing = (1 - sum_k w_k r_k) PD + sum_k w_k r_k tau_rules_k,
   //   stance knee gains = sum_k w_k ((1 - r_k) stance_knee_kp + r_k knee_kp_k) (kd alike).
   // The fast gaits use the motors' whole torque and speed range on a compliant stance knee, which
-  // PD tracking cannot reproduce (docs/design.md, "The walker"): they are walked by their rules.
+  // PD tracking cannot reproduce (docs/design/walker.md, "The walker"): they are walked by their
+  // rules.
   std::vector<double> rule_share;
   // Between two neighbouring rule-walked gaits (share >= 1/2) the gait pattern's velocity input
   // moves to the nearer one's speed, the speeds being gait_pitches' (rule_gait_choice.h; false:
@@ -255,7 +256,7 @@ class FuzzyCmacWalker final : public Controller {
 };
 
 // Perceived distance from x (the front foot) to the near edge of the next obstacle ahead,
-// saturated at d_max (docs/design.md).
+// saturated at d_max (docs/design/walker.md).
 double ObstacleDistance(const Terrain& terrain, double x, double d_max);
 
 }  // namespace rabbit

@@ -1,5 +1,5 @@
 // The five pragmatic rules of the chapter (section 4.1, eqs. 14-18), used to generate reference
-// gaits without reference trajectories (docs/design.md):
+// gaits without reference trajectories (docs/design/gait-pattern.md):
 //   swing hip   a torque pulse K_hip_pulse for t1 < t < t2 after the swing phase starts (eq. 14),
 //               then passive until the angle between the thighs qr1 = q_sw1 - q_st1 exceeds
 //               qr1_dsw, then PD-locked there (eq. 15);

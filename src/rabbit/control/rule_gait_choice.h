@@ -1,5 +1,5 @@
-// The choice between two rule-walked gaits (WalkerParams::rule_gait_choice; docs/design.md,
-// "Velocity control").
+// The choice between two rule-walked gaits (WalkerParams::rule_gait_choice;
+// docs/design/velocity-control.md, "Velocity control").
 //
 // A gait walked by its pragmatic rules (rule_share 1) swings by its own hip pulse, lock angle and
 // knee lock; the Fuzzy-CMAC's blend of two such neighbouring gaits sums their rule torques, each

@@ -53,7 +53,7 @@
 namespace rabbit {
 
 // Defaults: the best of the measured sets on the training suite scenarios/train/slope.toml
-// (docs/design.md, "Slope adaptation"); the adaptation is off unless enabled.
+// (docs/design/slope.md, "Slope adaptation"); the adaptation is off unless enabled.
 struct SlopeParams {
   bool enabled = false;
   double filter = 1.0;            // weight of the newest step's grade in the estimate, (0, 1]

@@ -15,7 +15,7 @@ constexpr double kDeg = M_PI / 180.0;
 
 std::vector<StepMapBand> StepMapParams::DefaultStepMapBands() {
   // {V m/s, q* deg, a, b m/s per deg}: bench/identify_step_map on the training walks of
-  // scenarios/train/speed.toml (docs/design.md, "The step-to-step map").
+  // scenarios/train/speed.toml (docs/design/velocity-control.md, "The step-to-step map").
   const double table[][4] = {{0.3, -10.21, 0.550, 0.00593}, {0.4, -6.76, 0.550, 0.00593},
                              {0.5, -3.21, 0.550, 0.00593},  {0.6, 7.85, 0.550, 0.00593},
                              {0.7, 13.13, 0.550, 0.00593},  {0.8, 17.68, 0.550, 0.00593},

@@ -1,6 +1,7 @@
-// A model-based step-to-step speed law for the walker's trunk pitch q0_d (docs/design.md,
-// "The step-to-step map"): an alternative to the chapter's incremental law (eqs. 19-20) in
-// velocity_control.h, chosen with [controller.velocity_control] law = "step_map".
+// A model-based step-to-step speed law for the walker's trunk pitch q0_d
+// (docs/design/velocity-control.md, "The step-to-step map"): an alternative to the chapter's
+// incremental law (eqs. 19-20) in velocity_control.h, chosen with [controller.velocity_control] law
+// = "step_map".
 //
 // The map, identified from walks (IdentifyStepMap), predicts the next stride speed S[k+1] (the
 // walker's V_M at touchdown k+1, the mean of the last two steps) from the current one S[k] and
@@ -39,7 +40,7 @@ struct StepMapBand {
 
 struct StepMapParams {
   // Defaults: identified by bench/identify_step_map on the training walks of
-  // scenarios/train/speed.toml (docs/design.md, "The step-to-step map").
+  // scenarios/train/speed.toml (docs/design/velocity-control.md, "The step-to-step map").
   std::vector<StepMapBand> bands = DefaultStepMapBands();
   double decay = 0.6;          // wanted error ratio per step, in [0, 1) (0: deadbeat)
   double offset_gain = 0.3;    // the offset estimate's gain per step, in [0, 1]

@@ -1,5 +1,5 @@
-// Multi-step foot placement for stepping over an obstacle (beyond the chapter; docs/design.md,
-// "The step planner").
+// Multi-step foot placement for stepping over an obstacle (beyond the chapter;
+// docs/design/step-planner.md, "The step planner").
 //
 // At each touchdown with an obstacle's near edge within `horizon` of the front foot (d_obs), the
 // planner chooses the number n >= 0 of approach steps still to take before the step over and
@@ -38,7 +38,7 @@ struct StepPlannerParams {
   double horizon = 1.5;  // m: d_obs within which the planner takes over the step length
   // Blend only the gaits the walker tracks (rule share below 1/2; all when there is no rule
   // share). Off by default: on the training families it changed nothing for one obstacle and cost
-  // obstacle rows (docs/design.md, "The step planner").
+  // obstacle rows (docs/design/step-planner.md, "The step planner").
   bool tracked_gaits_only = false;
   double margin_before = 0.06;  // m: the last foot's distance short of the near edge
   double margin_after = 0.05;   // m: the step over lands this far past the far edge

@@ -1,7 +1,7 @@
 // What the walker reads from the known terrain at a touchdown (beyond the chapter): the change of
 // grade over the coming step, and the speed command that the terrain asks for in place of V_d.
 //
-// The speed command stacks three mechanisms, in this order (docs/design.md):
+// The speed command stacks three mechanisms, in this order (docs/design/velocity-control.md):
 //   1. the slope adaptation moves V_d with the grades ahead (V_d itself on flat ground);
 //   2. the step planner raises it to its approach speed near an obstacle;
 //   3. near a step up or down, the step handling's approach speed replaces it.

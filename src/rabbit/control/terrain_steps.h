@@ -52,7 +52,7 @@
 namespace rabbit {
 
 // Defaults: the best of the measured sets on the training suite scenarios/train/steps.toml
-// (docs/design.md, "Steps and platforms"); off unless enabled (on in the adaptive preset).
+// (docs/design/steps.md, "Steps and platforms"); off unless enabled (on in the adaptive preset).
 struct TerrainStepParams {
   bool enabled = false;
   double reach = 0.05;           // m beyond the predicted landing: a face there is crossed

@@ -1,6 +1,6 @@
 // The walker's velocity control: one update of the desired trunk pitch q0_d per step (chapter
-// eqs. 19-20), and, beyond the chapter, speed transitions led by the trunk (docs/design.md,
-// "Velocity control").
+// eqs. 19-20), and, beyond the chapter, speed transitions led by the trunk
+// (docs/design/velocity-control.md, "Velocity control").
 //
 // The chapter's law, at each touchdown with a measured step:
 //   q0_d(n+1) = q0_d(n) + K_P (V_d - V_M) + K_V d/dt (V_d - V_M),
@@ -20,7 +20,7 @@
 //                 command is answered by the feed-forward only, not kicked twice;
 //   start         with start_at_map, the first update after the warm-up sets q0_d = P(V_c).
 // P is the gaits' map, or a map given as points (pitch_map), e.g. the pitches the walker itself
-// settles at (docs/design.md, "Velocity control").
+// settles at (docs/design/velocity-control.md, "Velocity control").
 //
 // Gait shift (gait_shift_gain > 0; with the chapter's law): while the command V_c is below
 // gait_shift_below, the law above moves an effort u instead of q0_d, and q0_d = clamp(u,
@@ -30,7 +30,8 @@
 // the stride too fast, the blend moves toward the slowest gait; when the error turns, the shift
 // unwinds before the pitch leaves the floor. At the slow end the blend of the slowest gait (walked
 // by its rules) with the next (tracked) walks faster than either, at any pitch in the range
-// (docs/design.md, "Velocity control"). At or above gait_shift_below, u = q0_d (no shift).
+// (docs/design/velocity-control.md, "Velocity control"). At or above gait_shift_below, u = q0_d (no
+// shift).
 //
 // Drops (enabled only). A drop starts at a touchdown where the speed profile has stepped down by
 // more than drop_min since the previous one, with V_d below V_c, and lasts until V_c has reached
@@ -40,16 +41,16 @@
 // drop_gap > 0, V_c does not go below V_M - drop_gap (it waits for the measured stride, so that
 // the pattern does not reach a gait far slower than the robot); and for drop_no_raise touchdowns
 // from each decrease of V_c the law may lower q0_d but not raise it (a stumble's slow stride is
-// not answered by a lean forward that throws the robot past the new speed) (docs/design.md,
-// "Velocity control").
+// not answered by a lean forward that throws the robot past the new speed)
+// (docs/design/velocity-control.md, "Velocity control").
 //
 // Rises (enabled only). A rise starts at a touchdown where the speed profile's V_d has stepped up
 // since the previous one, with V_d above V_c and no slope, obstacle or step command moving it
 // (V_d is the profile's own), and lasts while that holds; in a rise the feed-forward of each
 // increase of V_c uses feedforward_gain + feedforward_rise_extra: the gait blends walked at
-// 0.55-0.8 m/s need a few degrees more pitch than the gaits' map gives (docs/design.md,
-// "Velocity control"). In a rise, v_d_rate_up (> 0) takes the place of v_d_rate for the increases
-// of V_c.
+// 0.55-0.8 m/s need a few degrees more pitch than the gaits' map gives
+// (docs/design/velocity-control.md, "Velocity control"). In a rise, v_d_rate_up (> 0) takes the
+// place of v_d_rate for the increases of V_c.
 //
 // With law = kStepMap the feedback law above gives way to the identified step-to-step map
 // (step_map_control.h), which chooses q0_d at each update; the rate limit still applies.
@@ -71,7 +72,8 @@ enum class VelocityLaw { kChapter, kStepMap };
 
 struct VelocityControlParams {
   bool enabled = false;  // false: the chapter's law alone (V_c = V_d)
-  // Defaults: the best of the variants measured on the training families (docs/design.md).
+  // Defaults: the best of the variants measured on the training families
+  // (docs/design/velocity-control.md).
   double v_d_rate = 0.1;          // m/s per step: the largest change of V_c at a touchdown
   double feedforward_gain = 0.5;  // share of the map's pitch change applied at once
   // Added to feedforward_gain where V_c rises (0: the same share both ways, bit for bit).

@@ -28,7 +28,7 @@ std::string WalkerPresetNames() { return "\"adaptive\", \"chapter\""; }
 WalkerParams PresetWalkerParams(WalkerPreset preset) {
   WalkerParams w;
   // Both: the FIS sees the desired velocity, so the gait pattern moves to the gait of V_d before
-  // the trunk pitch has brought V_M there (docs/design.md, "The walker").
+  // the trunk pitch has brought V_M there (docs/design/walker.md, "The walker").
   w.fis_v_lead = 1.0;
   switch (preset) {
     case WalkerPreset::kAdaptive:
@@ -37,21 +37,21 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // (docs/results.md); the stall recovery did not help and stays off.
       w.planner.enabled = true;
       // Obstacles are approached at 0.7 m/s at least: 423 of the 640 training members against
-      // 383 (docs/design.md, "The step planner").
+      // 383 (docs/design/step-planner.md, "The step planner").
       w.planner.approach_speed = 0.7;
       // The velocity control leaves q0_d alone at the three touchdowns from the one that ends a
-      // step over: obstacle rows 10 -> 18 of 40 training members (docs/design.md, "The step
-      // planner").
+      // step over: obstacle rows 10 -> 18 of 40 training members (docs/design/step-planner.md, "The
+      // step planner").
       w.planner.hold_pitch_steps = 3;
       // A lower, shorter step over: the foot lift 0.04 m above the obstacle (0.06 otherwise), the
       // step over's foot lowered within 0.02 m past the far edge (0.05) and asked for at most
       // 0.45 m (0.50): on robustness_train.toml (baselines = []) obstacle 30 -> 32, rows 12 -> 23
-      // of 40; on scenarios/train/obstacles.toml 108 -> 120 of 170 (docs/design.md, "The step
-      // planner").
+      // of 40; on scenarios/train/obstacles.toml 108 -> 120 of 170 (docs/design/step-planner.md,
+      // "The step planner").
       w.lift.clearance = 0.04;
       // ... and at least 0.8 of the obstacle's height above a high one (0.056 m over 0.07 m):
       // robustness_train (obstacle, rows, during a speed change, noise: 40 each) 124 -> 127 of 160,
-      // train/obstacles 120 -> 122 of 170 (docs/design.md, "The step planner").
+      // train/obstacles 120 -> 122 of 170 (docs/design/step-planner.md, "The step planner").
       w.lift.height_gain = 0.8;
       w.planner.over_lift_release = 0.02;
       w.planner.l_over_max = 0.45;
@@ -60,17 +60,17 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // robustness_train.toml (baselines = []) 541 -> 548 of 640 (obstacle rows 28 -> 31, after
       // a push 29 -> 31, noise 36 -> 39, during a speed change 37 -> 36), every family without
       // obstacles the same runs; scenarios/train/obstacles.toml 133 -> 137 of 170
-      // (docs/design.md, "The step planner").
+      // (docs/design/step-planner.md, "The step planner").
       w.planner.l_over_min = 0.31;
       // The lift lets go of a joint at no more than 7 rad/s (the actuator gives no torque past
       // 8.378) and its references' rates are their own: robustness_train (obstacle, rows, during
       // a speed change, noise) 127 -> 141 of 160, train/obstacles 122 -> 133 of 170
-      // (docs/design.md, "The step planner").
+      // (docs/design/step-planner.md, "The step planner").
       w.lift.release_rate = 7.0;
       // The trailing leg's swing lifts 0.04 m higher: on the obstacle families of three training
       // seed sets (robustness_train.toml and its 3xxx and 4xxx copies, baselines off; 1,000
       // members) 773 -> 786 passed, no family losing on any set, and the trailing foot's landings
-      // on an obstacle's top 10 -> 0 (docs/design.md, "The step planner").
+      // on an obstacle's top 10 -> 0 (docs/design/step-planner.md, "The step planner").
       w.lift.trailing_clearance = 0.04;
       // A step a push disturbed on the approach (v_orb off the same leg's last undisturbed step's
       // by more than 0.3 m/s) does not feed the planner's step-length bias: robustness_train.toml
@@ -78,20 +78,20 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // 35 -> 34, noise 38 -> 37, the rest the same members; scenarios/train/obstacles.toml
       // 122 -> 125 of 170 (after a push 22 -> 25); 80 more seeds of the family 40 -> 39. With the
       // paced lift above: 525 -> 530 of 640 (after a push 22 -> 29), train/obstacles 133 either
-      // way, the 80 more seeds 44 -> 47 (docs/design.md, "The step planner").
+      // way, the 80 more seeds 44 -> 47 (docs/design/step-planner.md, "The step planner").
       w.planner.push_dead = 0.3;
       w.slope.enabled = true;
       // The speed command moves with the grades ahead: up before and on an uphill, down before
-      // and on a downhill (docs/design.md, "Slope adaptation"; neutral on flat ground).
+      // and on a downhill (docs/design/slope.md, "Slope adaptation"; neutral on flat ground).
       w.slope.uphill_boost = 1.0;
       w.slope.downhill_brake = 3.0;
-      w.slope.speed_floor = 0.4;  // the brake stops at 0.4 m/s (docs/design.md)
+      w.slope.speed_floor = 0.4;  // the brake stops at 0.4 m/s (docs/design/slope.md)
       w.velocity_control.enabled = true;
       // Drops of the speed command: the gait shift below 0.4 m/s, a drop (a step down of more
       // than 0.15 m/s) and no raise of q0_d for 3 touchdowns after a decrease (first chosen with
       // a drop at 0.3 m/s per step below 0.75 m/s and no more than 0.4 m/s below the measured
-      // stride: 475 of the 640 training members against 473; docs/design.md, "Velocity
-      // control").
+      // stride: 475 of the 640 training members against 473; docs/design/velocity-control.md,
+      // "Velocity control").
       w.velocity_control.gait_shift_gain = 2.0;
       w.velocity_control.drop_min = 0.15;
       w.velocity_control.drop_no_raise = 3;
@@ -103,7 +103,7 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // change of V_c leans by 0.565 of the pitch map's change, 0.965 in a rise (before: 0.3 m/s
       // per step in a drop below 0.75 m/s, 0.4 m/s below the stride, 0.5 and 0.75 of the map).
       // On robustness_train.toml (baselines = []) 555 -> 558 of 640, on the same families drawn
-      // from other training seeds 548 -> 557 (docs/design.md, "Velocity control").
+      // from other training seeds 548 -> 557 (docs/design/velocity-control.md, "Velocity control").
       w.velocity_control.feedforward_gain = 0.565;
       w.velocity_control.feedforward_rise_extra = 0.4;
       w.velocity_control.v_d_rate_up = 0.15;
@@ -113,30 +113,32 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // v_d_rate, 0.1 m/s per step, as before the joint tuning: the speed members of
       // robustness_train.toml and of the same families on two more training seed sets (80, 80
       // and 200 members) 70 -> 72, 66 -> 65 and 154 -> 156 passed, falls and stalls 10 -> 8 of
-      // 360; every other family the same runs (docs/design.md, "Velocity control").
+      // 360; every other family the same runs (docs/design/velocity-control.md, "Velocity
+      // control").
       w.velocity_control.v_d_rate_down_below = 0.75;
       // Between two rule-walked gaits (0.8-0.9 and 0.9-1.0 m/s) the pattern walks the nearer one
       // while the command holds: on robustness_train.toml 499 of 640 members against 487,
       // speed_commands 23 of 40 against 18, speed_ramps 37 of 40 against 30 (no fall left), the
       // other families unchanged run by run; on scenarios/train/speed.toml 122 of 180 against
-      // 112 (docs/design.md, "Velocity control").
+      // 112 (docs/design/velocity-control.md, "Velocity control").
       w.rule_gait_choice = true;
       // ... and between the rule-walked 0.3 and the tracked 0.4 m/s gait, in place of the gait
       // shift while the command holds: robustness_train.toml 519 of 640 against 516,
       // speed_commands 30 of 40 against 27, every other family unchanged run by run;
-      // scenarios/train/speed.toml 132 of 180 against 129 (docs/design.md, "Velocity control").
+      // scenarios/train/speed.toml 132 of 180 against 129 (docs/design/velocity-control.md,
+      // "Velocity control").
       w.rule_gait_choice_mixed_below = 0.45;
       // ... there the input moves to the faster gait at 0.75 of the way between the two speeds
       // (0.3675 m/s), not at the midpoint: robustness_train.toml 541 -> 543 of 640
       // (speed_commands 30 -> 32, every other family the same runs), scenarios/train/speed.toml
-      // 135 -> 137 of 180 (docs/design.md, "Velocity control").
+      // 135 -> 137 of 180 (docs/design/velocity-control.md, "Velocity control").
       w.rule_gait_choice_mixed_point = 0.75;
       // Steps and platforms: 51 of 120 training members (scenarios/train/steps.toml) against 4
-      // without (docs/design.md, "Steps and platforms").
+      // without (docs/design/steps.md, "Steps and platforms").
       w.steps.enabled = true;
       // Approaching a step the walker asks for 0.7 m/s (up) or 0.65 m/s (down) instead of V_d
       // from 2.5 m before its face, and leaves q0_d unchanged for two touchdowns from its
-      // crossing: 100 of 120 training members against 51 without them (docs/design.md, "Steps
+      // crossing: 100 of 120 training members against 51 without them (docs/design/steps.md, "Steps
       // and platforms").
       w.steps.up_speed = 0.7;
       w.steps.down_speed = 0.65;
@@ -144,14 +146,14 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       w.steps.hold_steps = 2;
       // The trunk leans back by 6 rad per m of drop for a step down (4 by default): the speed a
       // drop adds no longer runs into ever longer steps; on the training families' steps and
-      // platforms (robustness_train.toml) 73 of 80 members against 69 (docs/design.md, "Steps
+      // platforms (robustness_train.toml) 73 of 80 members against 69 (docs/design/steps.md, "Steps
       // and platforms").
       w.steps.down_lean = -6.0;
       // After a step up the new stance knee stays flexed until the hip is 0.12 m behind the
       // stance foot, then extends: on the training steps and platforms 303 of 400 members
       // against 276 (scenarios/train/steps.toml 106 of 120 against 100, the step and platform
       // families of robustness_train.toml 73 of 80 as before, three more seeds of the platform
-      // family and one of the step family 124 of 160 against 103; docs/design.md, "Steps and
+      // family and one of the step family 124 of 160 against 103; docs/design/steps.md, "Steps and
       // platforms").
       w.steps.up_knee_by_hip = true;
       w.steps.up_knee_at = -0.12;
@@ -162,26 +164,26 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // The foot is at full height over a step's face from 0.18 m before it (0.10 by default):
       // scenarios/train/steps.toml 107 of 120 against 103 (step up 38 against 36, platform 29
       // against 27), robustness_train.toml 543 of 640 against 541 (platform 37 against 35 of 40,
-      // every other family the same runs; docs/design.md, "Steps and platforms").
+      // every other family the same runs; docs/design/steps.md, "Steps and platforms").
       w.steps.lead = 0.18;
       // A warm-up step after the first shorter than 0.75 of the start gait's hands over to the
       // Fuzzy-CMAC (docs/results.md, "Choosing the default walker").
       w.warmup_handover_ratio = 0.75;
-      // The response to a large disturbance (docs/design.md, "Push recovery"): on the training
-      // pushes (scenarios/train/push.toml, 2-20 N s) 62 of 90 members against 53 without it; the
-      // families without pushes of robustness_train.toml pass as before.
+      // The response to a large disturbance (docs/design/push-recovery.md, "Push recovery"): on the
+      // training pushes (scenarios/train/push.toml, 2-20 N s) 62 of 90 members against 53 without
+      // it; the families without pushes of robustness_train.toml pass as before.
       w.recovery.response_dead = 0.15;
       w.recovery.response_hold_steps = 2;
       w.recovery.response_rules_steps = 6;
       w.recovery.response_rules_dead = 0.6;
       w.recovery.response_place_gain = 0.3;
       w.recovery.response_place_back = 0.0;
-      // The backward catch (docs/design.md, "Push recovery"): push + push_survival of
+      // The backward catch (docs/design/push-recovery.md, "Push recovery"): push + push_survival of
       // robustness_train.toml 44 of 80 against 40, scenarios/train/push.toml 65 of the 80 members
       // of 2-20 N s against 61; only backward pushes change outcome, all to pass (all of
       // robustness_train.toml 529 of 640 against 525, the other families the same runs).
       w.recovery.response_catch_back = 0.05;
-      // The forward reach (docs/design.md, "Push recovery"): push + push_survival of
+      // The forward reach (docs/design/push-recovery.md, "Push recovery"): push + push_survival of
       // robustness_train.toml 44 -> 47 of 80 (push 21 -> 23, push_survival 23 -> 24),
       // scenarios/train/push.toml 68 -> 70 of 100; the families without pushes of
       // robustness_train.toml pass the same members (all of it 541 -> 544 of 640).

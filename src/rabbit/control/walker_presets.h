@@ -5,9 +5,9 @@
 //             push recovery, slope adaptation, velocity control with a trunk-led transition,
 //             the FIS fed with the desired velocity, the terrain-step handling).
 //   chapter   the walker that reproduces the chapter's section 6 (the paper suite): its control
-//             strategy with only the departures its figures need (docs/design.md, "The walker"):
-//             no step planner, no slope adaptation, the chapter's q0_d law (push recovery stays
-//             on, as the paper suite has always run it).
+//             strategy with only the departures its figures need (docs/design/walker.md, "The
+//             walker"): no step planner, no slope adaptation, the chapter's q0_d law (push recovery
+//             stays on, as the paper suite has always run it).
 #ifndef RABBIT_CONTROL_WALKER_PRESETS_H_
 #define RABBIT_CONTROL_WALKER_PRESETS_H_
 

@@ -1,5 +1,5 @@
 // Walking with the pragmatic rules: one run from the documented start, its gait metrics, and the
-// swing-leg trajectories it produces as functions of e = q_st1 (docs/design.md).
+// swing-leg trajectories it produces as functions of e = q_st1 (docs/design/gait-pattern.md).
 #ifndef RABBIT_GAIT_GAIT_WALK_H_
 #define RABBIT_GAIT_GAIT_WALK_H_
 

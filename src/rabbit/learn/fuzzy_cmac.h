@@ -39,11 +39,11 @@ class FuzzyCmac {
   // The four swing-leg references at e with the current weights (eq. 13).
   Eigen::Vector4d Query(double e) const;
 
-  // The thigh frame (an addition to the chapter, see docs/design.md): gait k was learnt with
-  // the trunk held at pitch q0_k, so in terms of absolute thigh angles (th = q_i1 - q0) its swing
-  // thigh is O^k_1(th_st + q0_k) - q0_k while knee angles and rates are unchanged. Given every
-  // gait's pitch, QueryThigh(th_st) blends the gaits in that frame: its first output is the swing
-  // thigh's absolute angle. Throws std::invalid_argument unless one finite pitch per gait.
+  // The thigh frame (an addition to the chapter, see docs/design/gait-pattern.md): gait k was
+  // learnt with the trunk held at pitch q0_k, so in terms of absolute thigh angles (th = q_i1 - q0)
+  // its swing thigh is O^k_1(th_st + q0_k) - q0_k while knee angles and rates are unchanged. Given
+  // every gait's pitch, QueryThigh(th_st) blends the gaits in that frame: its first output is the
+  // swing thigh's absolute angle. Throws std::invalid_argument unless one finite pitch per gait.
   void SetTrunkPitches(std::vector<double> q0);
   Eigen::Vector4d QueryThigh(double th_st) const;
   const std::vector<double>& trunk_pitches() const { return pitches_; }

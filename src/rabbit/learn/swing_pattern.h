@@ -3,7 +3,8 @@
 // context X = [V_M, d_obs] set once per step (at touchdown) and held during it.
 //   Query(e)            the chapter's frame: e = q_st1 (stance hip, relative to the trunk), the
 //                       swing hip relative to the trunk (eq. 13);
-//   QueryThigh(th_st)   the thigh frame (docs/design.md): the stance thigh's absolute angle
+//   QueryThigh(th_st)   the thigh frame (docs/design/gait-pattern.md): the stance thigh's absolute
+//   angle
 //                       in, the swing thigh's absolute angle (and its rate) out.
 // Two implementations: FuzzyCmacSwingPattern (below: the chapter's Fuzzy-CMAC, optionally rounded
 // to nearest-gait switching) and MultiCmacSwingPattern (rabbit/learn/multi_cmac_pattern.h: the

@@ -1,5 +1,5 @@
-// RABBIT rigid-body model: kinematics, mass matrix, nonlinear effects, energy (docs/design.md,
-// "The model").
+// RABBIT rigid-body model: kinematics, mass matrix, nonlinear effects, energy
+// (docs/design/model.md, "The model").
 //
 // Generalized coordinates q = [x, y, q0, q11, q12, q21, q22]:
 //   x, y  hip position (world, y up);

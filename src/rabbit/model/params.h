@@ -1,4 +1,4 @@
-// Mass and geometry of the RABBIT biped (docs/design.md, chapter Table 1).
+// Mass and geometry of the RABBIT biped (docs/design/model.md, chapter Table 1).
 // All values SI. Defaults are the documented RABBIT values; every one can be overridden from a
 // `[model]` TOML table (see scenario/scenario.h and docs/formats/model.md).
 #ifndef RABBIT_MODEL_PARAMS_H_

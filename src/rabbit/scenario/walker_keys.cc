@@ -316,8 +316,8 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
     TomlReader pt = t->Table("planner");
     StepPlannerParams& pp = w.planner;
     pp.tracked_gaits_only = pt.Bool("tracked_gaits_only", pp.tracked_gaits_only);
-    pp.enabled =
-        pt.Bool("enabled", pp.enabled);  // the preset's (docs/design.md, "The step planner")
+    // The preset's (docs/design/step-planner.md, "The step planner").
+    pp.enabled = pt.Bool("enabled", pp.enabled);
     pp.horizon = pt.Double("horizon", pp.horizon);
     pp.margin_before = pt.Double("margin_before", pp.margin_before);
     pp.margin_after = pt.Double("margin_after", pp.margin_after);
@@ -382,7 +382,7 @@ void StartOnGait(TomlReader* t, const GaitRecord& gait, WalkerParams* walker) {
 }
 
 // The speed gait whose measured V_M the walker's gait choice moves v0 to, or null where it leaves
-// v0 as it is (docs/design.md, "The walker": the start).
+// v0 as it is (docs/design/walker.md, "The walker": the start).
 const GaitIndexEntry* ChosenStartGait(const std::vector<GaitIndexEntry>& index,
                                       const std::map<std::string, GaitWalkerSettings>& settings,
                                       double v0, double mixed_below, double mixed_point) {

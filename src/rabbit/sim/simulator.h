@@ -19,8 +19,8 @@
 
 namespace rabbit {
 
-// When a run counts as a fall (docs/design.md, "Gait measurement and falls"). Any knee at or below
-// the ground also counts.
+// When a run counts as a fall (docs/design/model.md, "Gait measurement and falls"). Any knee at or
+// below the ground also counts.
 struct FallCriteria {
   double min_hip_height = 0.6;        // m, above the ground under the hip
   double max_trunk_pitch = 0.785398;  // rad (45 deg)
