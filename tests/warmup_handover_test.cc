@@ -2,8 +2,11 @@
 // warmup_handover_ratio times the start gait's L_step ends the warm-up at its touchdown. On a robot
 // with 9 % heavier legs (a member of the training family link_masses) the start gait's rules alone
 // shrink every step until it falls; handed over at the first short step, the Fuzzy-CMAC walks on.
+// And the step planner's end_warmup_within: an obstacle close ahead of a warm-up step's landing
+// foot ends the warm-up at that touchdown, so that the planner plans the approach.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <string>
 
 #include "cli_fixture.h"
@@ -89,6 +92,80 @@ TEST_F(WarmupHandoverTest, ARatioOutsideZeroToOneIsRefusedNamingTheKey) {
       ADD_FAILURE() << "no error for " << bad;
     } catch (const InputError& e) {
       EXPECT_NE(std::string(e.what()).find("warmup_handover_ratio"), std::string::npos) << e.what();
+    }
+  }
+}
+
+TEST(WarmupHandover, TheAdaptivePresetEndsTheWarmupNearAnObstacle) {
+  const WalkerParams a = PresetWalkerParams(WalkerPreset::kAdaptive);
+  EXPECT_TRUE(a.planner.enabled);
+  EXPECT_GT(a.planner.end_warmup_within, a.planner.horizon);
+  // The chapter's walker has no planner: its warm-up is the chapter's, whatever the key.
+  EXPECT_FALSE(PresetWalkerParams(WalkerPreset::kChapter).planner.enabled);
+}
+
+class ObstacleHandoverTest : public testing::ScratchDirTest {
+ protected:
+  static constexpr double kObstacleX = 3.2;  // m: the near edge, reached during a full warm-up
+  ObstacleHandoverTest() : ScratchDirTest("rabbit_obstacle_handover_test") {}
+  // 12 s at 0.6 m/s toward an obstacle 0.2 m long and 0.05 m high; `planner` lines are added to
+  // [controller.planner].
+  RunOutput Run(const std::string& planner) {
+    Scenario s = LoadScenario(Write(
+        "obstacle_near.toml",
+        std::string("[simulation]\nduration = 12.0\n[velocity]\nvalue = 0.6\n") +
+            "[[terrain.obstacles]]\nx_start = " + std::to_string(kObstacleX) +
+            "\nlength = 0.2\nheight = 0.05\n[controller]\ntype = \"fuzzy_cmac\"\n" +
+            "database = \"" + RABBIT_SOURCE_DIR + "/gaits\"\n[controller.planner]\n" + planner));
+    s.walker.log_every = 0;
+    within_ = s.walker.planner.end_warmup_within;
+    after_ = static_cast<size_t>(s.walker.warmup_handover_after);
+    warmup_steps_ = static_cast<size_t>(s.walker.warmup_steps);
+    const std::shared_ptr<const GaitLibrary> library = LoadGaitLibrary(s.pattern);
+    return RunScenario(s, "fuzzy_cmac", library.get());
+  }
+  static size_t WarmupSteps(const RunOutput& run) {
+    size_t n = 0;
+    while (n < run.steps.size() && run.steps[n].warmup) ++n;
+    return n;
+  }
+  double within_ = 0.0;
+  size_t after_ = 0, warmup_steps_ = 0;
+};
+
+TEST_F(ObstacleHandoverTest, TheWarmupEndsAtTheFirstLandingWithinReachOfTheObstacle) {
+  const RunOutput early = Run("");  // the preset's distance
+  const double within = within_;
+  ASSERT_GT(within, 0.0);
+  const RunOutput full = Run("end_warmup_within = 0.0\n");
+  // Off: the whole warm-up (the touchdown of its last step hands over, as in the test above).
+  ASSERT_GT(full.steps.size(), warmup_steps_);
+  EXPECT_EQ(WarmupSteps(full), warmup_steps_ - 1);
+  // The two walks are the same up to the hand-over. The first landing, from the after-th step
+  // on, whose foot has the obstacle's near edge within reach ends the warm-up; none of the
+  // warm-up's landings lies within 1 cm of the limit, so that where the gait meter and the walker
+  // put the foot cannot decide it.
+  size_t first = full.steps.size();
+  for (size_t i = 0; i + 1 < warmup_steps_; ++i) {
+    const double ahead = kObstacleX - full.steps[i].step.x;
+    EXPECT_GT(std::abs(ahead - within), 0.01) << i;
+    if (i >= after_ && ahead < within && first == full.steps.size()) first = i;
+  }
+  ASSERT_LT(first, warmup_steps_ - 1) << "the obstacle came into reach only after a full warm-up";
+  EXPECT_EQ(WarmupSteps(early), first);
+  for (size_t i = 0; i <= first && i < early.steps.size(); ++i) {
+    EXPECT_EQ(early.steps[i].step.x, full.steps[i].step.x) << i;
+  }
+  for (size_t i = first; i < early.steps.size(); ++i) EXPECT_FALSE(early.steps[i].warmup) << i;
+}
+
+TEST_F(ObstacleHandoverTest, ADistanceOutsideTheRangeIsRefusedNamingTheKey) {
+  for (const char* bad : {"end_warmup_within = -0.5\n", "end_warmup_within = 1000.0\n"}) {
+    try {
+      Run(bad);
+      ADD_FAILURE() << "no error for " << bad;
+    } catch (const InputError& e) {
+      EXPECT_NE(std::string(e.what()).find("end_warmup_within"), std::string::npos) << e.what();
     }
   }
 }

@@ -43,6 +43,11 @@ bool StepPlannerParams::IsValid(std::string* error) const {
     *error = "planner.approach_distance must be in [0, 100] m";
     return false;
   }
+  if (!(std::isfinite(end_warmup_within) && end_warmup_within >= 0.0 &&
+        end_warmup_within <= 100.0)) {
+    *error = "planner.end_warmup_within must be in [0, 100] m";
+    return false;
+  }
   if (!(l_min > 0.0 && l_min < l_max)) {
     *error = "planner: need 0 < l_min < l_max";
     return false;

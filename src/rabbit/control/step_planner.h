@@ -103,6 +103,11 @@ struct StepPlannerParams {
   // leg's last undisturbed step's by more than push_dead (m/s) in a phase bin was disturbed, and
   // its length error does not feed the bias above (0: off, every planned step feeds it).
   double push_dead = 0.0;  // m/s
+  // The start's warm-up (the start gait's rules, which the planner does not steer) ends at the
+  // touchdown, from the walker's warmup_handover_after-th step on, whose landing foot has an
+  // obstacle's near edge less than end_warmup_within ahead, so that the planner plans the approach
+  // steps rather than taking over an obstacle already close (0: off; the warm-up's own length).
+  double end_warmup_within = 0.0;  // m
   bool IsValid(std::string* error) const;
 };
 

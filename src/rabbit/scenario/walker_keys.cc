@@ -345,6 +345,7 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
     pp.approach_speed = pt.Double("approach_speed", pp.approach_speed);
     pp.approach_distance = pt.Double("approach_distance", pp.approach_distance);
     pp.push_dead = pt.Double("push_dead", pp.push_dead);
+    pp.end_warmup_within = pt.Double("end_warmup_within", pp.end_warmup_within);
     pt.Finish();
     std::string planner_error;
     if (!pp.IsValid(&planner_error)) {
