@@ -159,6 +159,68 @@ TEST_F(ObstacleHandoverTest, TheWarmupEndsAtTheFirstLandingWithinReachOfTheObsta
   for (size_t i = first; i < early.steps.size(); ++i) EXPECT_FALSE(early.steps[i].warmup) << i;
 }
 
+// After a backward push the push response hands the walk to the rules for a few steps (as a
+// warm-up, but not flagged in steps.csv: they are steps of the walk); an obstacle within reach
+// ends those too. A training member of obstacle_after_push (seeds 4xxx): 6.76 N s backward at
+// 4.66 m, an obstacle at 6.68 m, out of reach of every landing of the start's warm-up.
+class PushRulesHandoverTest : public testing::ScratchDirTest {
+ protected:
+  static constexpr double kObstacleX = 6.677982602460192;
+  PushRulesHandoverTest() : ScratchDirTest("rabbit_push_rules_handover_test") {}
+  RunOutput Run(bool push, const std::string& planner) {
+    Scenario s = LoadScenario(
+        Write("push_then_obstacle.toml",
+              std::string("[simulation]\ndistance = 11.7\nduration = 60.0\n") +
+                  "[velocity]\nvalue = 0.7145972181767831\n" +
+                  (push ? "[[push]]\nat_hip_x = 4.663427368711831\nduration = 0.05730411639844639\n"
+                          "impulse_n_s = -6.7618117940531945\nheight = 0.2\n"
+                        : "") +
+                  "[[terrain.obstacles]]\nx_start = 6.677982602460192\n" +
+                  "length = 0.13763755230398578\nheight = 0.03274831440932812\n" +
+                  "[controller]\ntype = \"fuzzy_cmac\"\ndatabase = \"" + RABBIT_SOURCE_DIR +
+                  "/gaits\"\n[controller.planner]\n" + planner));
+    s.walker.log_every = 0;
+    within_ = s.walker.planner.end_warmup_within;
+    const std::shared_ptr<const GaitLibrary> library = LoadGaitLibrary(s.pattern);
+    return RunScenario(s, "fuzzy_cmac", library.get());
+  }
+  // The first step whose landing differs between the two walks (a.steps.size() if none).
+  static size_t FirstDifference(const RunOutput& a, const RunOutput& b) {
+    size_t i = 0;
+    while (i < a.steps.size() && i < b.steps.size() && a.steps[i].step.x == b.steps[i].step.x &&
+           a.steps[i].step.t_touchdown == b.steps[i].step.t_touchdown) {
+      ++i;
+    }
+    return i;
+  }
+  double within_ = 0.0;
+};
+
+TEST_F(PushRulesHandoverTest, TheResponsesRuleStepsEndWithinReachOfTheObstacle) {
+  const RunOutput on = Run(true, "");
+  const double within = within_;
+  ASSERT_GT(within, 0.0);
+  const RunOutput off = Run(true, "end_warmup_within = 0.0\n");
+  // The start's warm-up never has the obstacle within reach: the key cannot act there.
+  for (const StepRow& row : off.steps) {
+    if (row.warmup) {
+      EXPECT_GT(kObstacleX - row.step.x, within + 0.01);
+    }
+  }
+  // With the push, the walks part: the touchdown before the first step that differs landed
+  // within reach of the obstacle (where the response's rules handed back to the Fuzzy-CMAC).
+  const size_t i = FirstDifference(on, off);
+  ASSERT_GT(i, 0u);
+  ASSERT_LT(i, off.steps.size()) << "the key changed nothing after the push";
+  EXPECT_LT(kObstacleX - on.steps[i - 1].step.x, within);
+  EXPECT_GT(kObstacleX - on.steps[i - 1].step.x, 0.0);
+  // Without the push no rule steps come after the warm-up, and the key changes nothing.
+  const RunOutput calm_on = Run(false, ""), calm_off = Run(false, "end_warmup_within = 0.0\n");
+  ASSERT_FALSE(calm_on.steps.empty());
+  EXPECT_EQ(FirstDifference(calm_on, calm_off), calm_on.steps.size());
+  EXPECT_EQ(calm_on.steps.size(), calm_off.steps.size());
+}
+
 TEST_F(ObstacleHandoverTest, ADistanceOutsideTheRangeIsRefusedNamingTheKey) {
   for (const char* bad : {"end_warmup_within = -0.5\n", "end_warmup_within = 1000.0\n"}) {
     try {

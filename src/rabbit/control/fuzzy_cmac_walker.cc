@@ -175,14 +175,18 @@ double FuzzyCmacWalker::ObstacleAhead(const Observation& obs, double x) const {
 }
 
 bool FuzzyCmacWalker::WarmupEnds(const Observation& obs, int taken, double front_x) const {
+  // An obstacle close enough that the step planner should plan the approach (step_planner.h,
+  // end_warmup_within): the rules do not plan.
+  const double within = p_.planner.enabled ? p_.planner.end_warmup_within : 0.0;
+  const bool obstacle_near = within > 0.0 && obs.terrain != nullptr &&
+                             ObstacleDistance(*obs.terrain, front_x, within) < within;
+  // The push response's rule steps: their number, or the obstacle.
+  if (rules_until_ >= 0) return taken >= rules_until_ || obstacle_near;
+  // The start's warm-up: its length; early, a step short of the start gait's (a robot the rules
+  // slow down) or the obstacle.
   if (taken >= p_.warmup_steps) return true;
   if (taken <= p_.warmup_handover_after) return false;
-  // Early: a step short of the start gait's (a robot the rules slow down), or an obstacle close
-  // enough that the step planner should plan the approach (step_planner.h, end_warmup_within).
-  if (meter_.last_step().l_step < p_.warmup_handover_ratio * p_.warmup_l_step) return true;
-  const double within = p_.planner.enabled ? p_.planner.end_warmup_within : 0.0;
-  return within > 0.0 && obs.terrain != nullptr &&
-         ObstacleDistance(*obs.terrain, front_x, within) < within;
+  return meter_.last_step().l_step < p_.warmup_handover_ratio * p_.warmup_l_step || obstacle_near;
 }
 
 void FuzzyCmacWalker::SetContext(double v_m, double d_obs) {
@@ -418,8 +422,7 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     swing_start_ = obs.t;
     std::fill(rule_states_.begin(), rule_states_.end(), RuleState{});
     const int taken = static_cast<int>(meter_.steps().size());
-    if (warming_up_ && (rules_until_ >= 0 ? taken >= rules_until_
-                                          : WarmupEnds(obs, taken, obs.foot_pos[swing].x()))) {
+    if (warming_up_ && WarmupEnds(obs, taken, obs.foot_pos[swing].x())) {
       warming_up_ = false;
       rules_until_ = -1;
     }

@@ -198,8 +198,9 @@ class FuzzyCmacWalker final : public Controller {
   double Gaussian();
   // d_obs seen from x (no terrain: no obstacle), before noise.
   double ObstacleAhead(const Observation& obs, double x) const;
-  // At a touchdown in the start's warm-up, `taken` steps so far, the landing foot at front_x:
-  // whether the Fuzzy-CMAC takes over from this touchdown on.
+  // At a touchdown while the rules walk (the start's warm-up, or the push response's rule steps),
+  // `taken` steps so far, the landing foot at front_x: whether the Fuzzy-CMAC takes over from
+  // this touchdown on.
   bool WarmupEnds(const Observation& obs, int taken, double front_x) const;
   // The foot lift's target height (absolute y) at foot abscissa x: the highest over the obstacles
   // of base + a (height + lift_clearance), a the ramp (0..1); -infinity when none needs a lift.

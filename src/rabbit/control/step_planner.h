@@ -105,8 +105,9 @@ struct StepPlannerParams {
   double push_dead = 0.0;  // m/s
   // The start's warm-up (the start gait's rules, which the planner does not steer) ends at the
   // touchdown, from the walker's warmup_handover_after-th step on, whose landing foot has an
-  // obstacle's near edge less than end_warmup_within ahead, so that the planner plans the approach
-  // steps rather than taking over an obstacle already close (0: off; the warm-up's own length).
+  // obstacle's near edge less than end_warmup_within ahead, and so do the push response's rule
+  // steps, so that the planner plans the approach steps rather than taking over an obstacle
+  // already close (0: off; the rules walk their number of steps).
   double end_warmup_within = 0.0;  // m
   bool IsValid(std::string* error) const;
 };

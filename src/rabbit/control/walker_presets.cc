@@ -81,13 +81,13 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // way, the 80 more seeds 44 -> 47 (docs/design/step-planner.md, "The step planner").
       w.planner.push_dead = 0.3;
       // The start's warm-up ends at the touchdown whose landing foot has an obstacle within 2 m
-      // (from its second step on), so that the planner plans the approach: of the training
-      // members with one obstacle, those with its near edge 3-3.5 m from the start passed 84 %
-      // against 97 % further on. On robustness_train.toml and two more training seed sets
-      // (baselines = [], 2,880 members) 3,507 -> 3,513 passed, the families without obstacles the
-      // same runs; the five obstacle families on two further sets (1,000 members) 842 -> 857,
-      // scenarios/train/obstacles.toml 139 -> 147 of 170 (docs/design/step-planner.md, "The step
-      // planner").
+      // (from its second step on), and so do the push response's rule steps, so that the planner
+      // plans the approach: of the training members with one obstacle, those with its near edge
+      // 3-3.5 m from the start passed 84 % against 97 % further on. On robustness_train.toml and
+      // two more training seed sets (baselines = [], 2,880 members) 3,507 -> 3,514 passed, the
+      // families without obstacles the same runs; the five obstacle families on two further sets
+      // (1,000 members) 842 -> 860; scenarios/train/obstacles.toml 139 -> 148 of 170
+      // (docs/design/step-planner.md, "The step planner").
       w.planner.end_warmup_within = 2.0;
       w.slope.enabled = true;
       // The speed command moves with the grades ahead: up before and on an uphill, down before
