@@ -179,7 +179,7 @@ bool FuzzyCmacWalker::WarmupEnds(const Observation& obs, int taken, double front
   // end_warmup_within): the rules do not plan.
   const double within = p_.planner.enabled ? p_.planner.end_warmup_within : 0.0;
   const bool obstacle_near = within > 0.0 && obs.terrain != nullptr &&
-                             ObstacleDistance(*obs.terrain, front_x, within) < within;
+                             obs.terrain->DistanceToNextObstacle(front_x) < within;
   // The push response's rule steps: their number, or the obstacle.
   if (rules_until_ >= 0) return taken >= rules_until_ || obstacle_near;
   // The start's warm-up: its length; early, a step short of the start gait's (a robot the rules
