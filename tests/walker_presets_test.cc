@@ -93,6 +93,15 @@ TEST(WalkerPresets, TheAdaptiveWalkerStepsOverLowerAndShorter) {
   EXPECT_EQ(c.lift.trailing_clearance, 0.0);
   EXPECT_EQ(a.planner.over_lift_release, 0.02);
   EXPECT_EQ(a.planner.l_over_max, 0.45);
+  // The lift is at full height from 0.15 m before the near edge, ramped in over the 0.10 m
+  // before that; the chapter's walker keeps the library's 0.10 m.
+  EXPECT_EQ(a.lift.lead, 0.15);
+  EXPECT_EQ(c.lift.lead, FootLiftParams().lead);
+  const Obstacle o{2.0, 0.2, 0.05};
+  EXPECT_EQ(LiftRamp(a.lift, o, 0.02, 0.02, 2.0 - 0.15), 1.0);
+  EXPECT_NEAR(LiftRamp(a.lift, o, 0.02, 0.02, 2.0 - 0.20), 0.5, 1e-12);
+  EXPECT_EQ(LiftRamp(a.lift, o, 0.02, 0.02, 2.0 - 0.26), 0.0);
+  EXPECT_NEAR(LiftRamp(c.lift, o, 0.02, 0.02, 2.0 - 0.15), 0.5, 1e-12);
   // The chapter's walker keeps the library's lift (its planner is off).
   EXPECT_EQ(c.lift.clearance, FootLiftParams().clearance);
   EXPECT_EQ(c.planner.over_lift_release, StepPlannerParams().over_lift_release);
