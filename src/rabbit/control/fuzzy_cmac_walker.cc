@@ -176,17 +176,19 @@ double FuzzyCmacWalker::ObstacleAhead(const Observation& obs, double x) const {
 
 bool FuzzyCmacWalker::WarmupEnds(const Observation& obs, int taken, double front_x) const {
   // An obstacle close enough that the step planner should plan the approach (step_planner.h,
-  // end_warmup_within): the rules do not plan.
-  const double within = p_.planner.enabled ? p_.planner.end_warmup_within : 0.0;
-  const bool obstacle_near = within > 0.0 && obs.terrain != nullptr &&
-                             obs.terrain->DistanceToNextObstacle(front_x) < within;
+  // end_warmup_within): the rules do not plan. Asked only where the step count does not decide.
+  const auto obstacle_near = [&] {
+    const double within = p_.planner.enabled ? p_.planner.end_warmup_within : 0.0;
+    return within > 0.0 && obs.terrain != nullptr &&
+           obs.terrain->DistanceToNextObstacle(front_x) < within;
+  };
   // The push response's rule steps: their number, or the obstacle.
-  if (rules_until_ >= 0) return taken >= rules_until_ || obstacle_near;
+  if (rules_until_ >= 0) return taken >= rules_until_ || obstacle_near();
   // The start's warm-up: its length; early, a step short of the start gait's (a robot the rules
   // slow down) or the obstacle.
   if (taken >= p_.warmup_steps) return true;
   if (taken <= p_.warmup_handover_after) return false;
-  return meter_.last_step().l_step < p_.warmup_handover_ratio * p_.warmup_l_step || obstacle_near;
+  return meter_.last_step().l_step < p_.warmup_handover_ratio * p_.warmup_l_step || obstacle_near();
 }
 
 void FuzzyCmacWalker::SetContext(double v_m, double d_obs) {
