@@ -4,9 +4,10 @@
 # control's feed-forward and start use a pitch map (controller.velocity_control.pitch_map_deg;
 # the gaits' own by default); this is the map the walker itself would give. The second argument
 # sets [controller.slope] touchdown_heights (docs/design/slope.md, "Slope adaptation"), the
-# third the speeds.
+# third the speeds (empty: the 16 below), the fourth the gait database (default: gaits/). The
+# adaptive preset's start map (velocity_control.start_pitch_map_deg) is this table for gaits/.
 #
-#   bash bench/settled_pitch.sh [BUILD_DIR] [false|true] ["0.30 0.40 ..."]
+#   bash bench/settled_pitch.sh [BUILD_DIR] [false|true] ["0.30 0.40 ..."] [DATABASE]
 set -euo pipefail
 
 build=${1:-build}
@@ -21,13 +22,19 @@ if [[ $(printf '%s\n' "${speeds[@]}" | sort | uniq -d) ]]; then
   exit 2
 fi
 root=$(cd "$(dirname "$0")/.." && pwd)
+database=${4:-$root/gaits}
+[[ -f "$database/reference/index.csv" ]] || {
+  echo "not a gait database (no reference/index.csv): '$database'" >&2
+  exit 2
+}
+database=$(cd "$database" && pwd)
 work=$(mktemp -d "${TMPDIR:-/tmp}/rabbit-settled-XXXXXX")
 trap 'rm -rf "$work"' EXIT
 
 {
   printf '[suite]\nname = "settled_pitch"\n[defaults]\nexpect_outcome = "completed"\n'
   printf 'required = false\n[defaults.simulation]\nduration = 40.0\nrecord_every = 50\n'
-  printf '[defaults.controller]\ntype = "fuzzy_cmac"\ndatabase = "%s/gaits"\n' "$root"
+  printf '[defaults.controller]\ntype = "fuzzy_cmac"\ndatabase = "%s"\n' "$database"
   printf '[defaults.controller.slope]\ntouchdown_heights = %s\n' "$heights"
   for v in "${speeds[@]}"; do
     printf '\n[[scenario]]\nname = "v_%s"\n[scenario.velocity]\nvalue = %s\n' "$v" "$v"

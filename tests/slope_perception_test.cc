@@ -25,12 +25,14 @@ class SlopePerceptionTest : public testing::ScratchDirTest {
   SlopePerceptionTest() : ScratchDirTest("rabbit_slope_perception_test") {}
   // The walker at V_d = 0.32 m/s (it starts on the slowest gait, vm_0.30) with its pitch held.
   RunOutput Walker(bool touchdown_heights) {
-    const std::string path =
-        Write("walker.toml",
-              std::string("[simulation]\nduration = 14.0\n[velocity]\nvalue = 0.32\n") +
-                  "[controller]\ntype = \"fuzzy_cmac\"\ndatabase = \"" + RABBIT_SOURCE_DIR +
-                  "/gaits\"\nk_p = 0\nk_v = 0\n" + "[controller.slope]\ntouchdown_heights = " +
-                  (touchdown_heights ? "true" : "false") + "\n");
+    const std::string path = Write(
+        "walker.toml",
+        std::string("[simulation]\nduration = 14.0\n[velocity]\nvalue = 0.32\n") +
+            "[controller]\ntype = \"fuzzy_cmac\"\ndatabase = \"" + RABBIT_SOURCE_DIR +
+            "/gaits\"\nk_p = 0\nk_v = 0\n" +
+            "[controller.slope]\ntouchdown_heights = " + (touchdown_heights ? "true" : "false") +
+            // The pitch held is the gaits' map's at the command (no start map of its own).
+            "\n[controller.velocity_control]\nstart_pitch_map_deg = []\n");
     Scenario s = LoadScenario(path);
     s.walker.log_every = 0;
     const std::shared_ptr<const GaitLibrary> library = LoadGaitLibrary(s.pattern);

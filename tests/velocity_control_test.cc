@@ -228,6 +228,8 @@ TEST(VelocityControlTest, EachRangedKeyIsCheckedAtBothEnds) {
        3.0},
       {"velocity_control.drop_gap must be in [0, 3] m/s", &VelocityControlParams::drop_gap, 0.0,
        3.0},
+      {"velocity_control.start_map_clear must be in [0, 100] m",
+       &VelocityControlParams::start_map_clear, 0.0, 100.0},
   };
   for (const Case& c : cases) {
     for (double value : {c.lo, c.hi}) {

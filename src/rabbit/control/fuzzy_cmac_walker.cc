@@ -244,6 +244,13 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   // drop's, not the gait's).
   if (measured && !warming_up_ && !hold_pitch && !terrain_steps_.HoldsPitch() &&
       !response_.HoldsPitch()) {
+    if (!speed_.started()) {
+      // The start's own pitch map only on open level ground (velocity_control.start_map_clear).
+      const double clear = p_.velocity_control.start_map_clear;
+      speed_.UseStartMap(clear <= 0.0 ||
+                         OpenLevelGround(obs.terrain, std::min(landing.x(), other_foot.x()),
+                                         std::max(landing.x(), other_foot.x()) + clear));
+    }
     q0_d_ = speed_.Update(v_m_, step.t_step, slope_.OvershootCorrection(v_m_, v_c));
   }
   const double front = obs.foot_pos[step.leg].x();

@@ -18,6 +18,14 @@ GradeView GradeAround(const Terrain* terrain, const Vec2& landing, const Vec2& o
   return view;
 }
 
+bool OpenLevelGround(const Terrain* terrain, double x_from, double x_to) {
+  if (terrain == nullptr) return true;
+  const GroundProfile& ground = terrain->ground;
+  return ground.SegmentAt(x_from) == ground.SegmentAt(x_to) && ground.SlopeAt(x_from) == 0.0 &&
+         terrain->SurfaceAt(x_from) == kGround &&
+         terrain->DistanceToNextObstacle(x_from) > x_to - x_from;
+}
+
 double TerrainSpeedCommand(const Terrain* terrain, const SlopeAdaptation& slope,
                            const StepPlannerParams& planner, const TerrainSteps& steps, double v_d,
                            const Vec2& landing, const Vec2& other_foot) {

@@ -30,6 +30,10 @@ struct GradeView {
 GradeView GradeAround(const Terrain* terrain, const Vec2& landing, const Vec2& other_foot,
                       double l_step);
 
+// Whether the terrain from x_from to x_to (m) is open level ground: flat, one segment of the
+// ground's profile (no step or change of grade), and no obstacle. True without a terrain.
+bool OpenLevelGround(const Terrain* terrain, double x_from, double x_to);
+
 // The speed command (m/s) the terrain asks for at this touchdown, before the velocity control's
 // rate limit; v_d itself without a terrain.
 double TerrainSpeedCommand(const Terrain* terrain, const SlopeAdaptation& slope,

@@ -21,6 +21,7 @@ const std::vector<VelocityControlRange>& VelocityControlRanges() {
       {"v_d_rate_down_below", &P::v_d_rate_down_below, 0.0, 3.0, " m/s"},
       {"drop_min", &P::drop_min, 0.0, 3.0, " m/s"},
       {"drop_gap", &P::drop_gap, 0.0, 3.0, " m/s"},
+      {"start_map_clear", &P::start_map_clear, 0.0, 100.0, " m"},
   };
   return ranges;
 }
@@ -36,11 +37,15 @@ bool VelocityControlParams::IsValid(std::string* error) const {
       return false;
     }
   }
-  for (const auto& [v, q] : pitch_map) {
-    if (!(std::isfinite(v) && std::isfinite(q) && v >= 0.0 && v < 3.0 && std::abs(q) < M_PI / 4)) {
-      *error =
-          "velocity_control.pitch_map_deg: each point needs V in [0, 3) m/s and |q0_d| < 45 deg";
-      return false;
+  for (const auto* points : {&pitch_map, &start_pitch_map}) {
+    for (const auto& [v, q] : *points) {
+      if (!(std::isfinite(v) && std::isfinite(q) && v >= 0.0 && v < 3.0 &&
+            std::abs(q) < M_PI / 4)) {
+        *error = std::string("velocity_control.") +
+                 (points == &pitch_map ? "pitch_map_deg" : "start_pitch_map_deg") +
+                 ": each point needs V in [0, 3) m/s and |q0_d| < 45 deg";
+        return false;
+      }
     }
   }
   if (!(drop_no_raise >= 0 && drop_no_raise <= 100)) {
@@ -104,6 +109,7 @@ VelocityControl::VelocityControl(const VelocityControlParams& params, double k_p
       q0_d_min_(q0_d_min),
       q0_d_max_(q0_d_max),
       map_(std::move(map)),
+      start_map_(params.start_pitch_map),
       step_map_(params.step_map),
       q0_d_(q0_d_initial) {
   std::string error;
@@ -168,7 +174,8 @@ double VelocityControl::Update(double v_m, double t_step, double extra) {
   pending_ff_ = 0.0;
   if (p_.enabled && p_.start_at_map && !started_) {
     started_ = true;
-    q0_d_ = std::clamp(map_.At(v_c_), q0_d_min_, q0_d_max_);
+    const bool own = use_start_map_ && !start_map_.points().empty();
+    q0_d_ = std::clamp((own ? start_map_ : map_).At(v_c_), q0_d_min_, q0_d_max_);
     last_error_ = error;
     last_v_m_ = v_m;
     have_error_ = true;

@@ -86,6 +86,13 @@ struct VelocityControlParams {
   std::vector<std::pair<double, double>> pitch_map;
   // At the first update after the warm-up, q0_d starts at P(V_c) instead of the start gait's.
   bool start_at_map = true;
+  // The start's own map S as (V in m/s, q0_d in rad) points (made non-decreasing): where the
+  // walker asks for it (UseStartMap), the first update sets q0_d = S(V_c) instead of P(V_c).
+  // Empty: P. The feed-forward keeps P.
+  std::vector<std::pair<double, double>> start_pitch_map;
+  // m: the walker asks for S only when the terrain from the back foot to this far beyond the front
+  // foot is level ground without an obstacle, a step or a change of grade (0: always).
+  double start_map_clear = 0.0;
   // Gait shift: m/s of the FIS's velocity input per rad of the law's pitch below the q0_d floor
   // (0: off, the law as above bit for bit), the largest shift (m/s), and the command (m/s) from
   // which on there is none.
@@ -155,6 +162,10 @@ class VelocityControl {
   // ignores it.
   double Update(double v_m, double t_step, double extra = 0.0);
   double q0_d() const { return q0_d_; }
+  // Before the first update: whether it takes the start's own map (start_pitch_map) rather than
+  // the pitch map. No effect without a start map or once started.
+  void UseStartMap(bool use) { use_start_map_ = use; }
+  bool started() const { return started_; }
   double command() const { return v_c_; }
   // The shift of the FIS's velocity input (m/s): the step map's, or with the chapter's law the
   // gait shift (0 when off).
@@ -166,6 +177,8 @@ class VelocityControl {
   VelocityControlParams p_;
   double k_p_, k_v_, q0_d_min_, q0_d_max_;
   PitchMap map_;
+  PitchMap start_map_;  // empty: map_
+  bool use_start_map_ = false;
   StepMapControl step_map_;
   double q0_d_;
   double v_c_ = 0.0;
