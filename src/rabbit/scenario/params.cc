@@ -39,6 +39,12 @@ void Flatten(const std::string& file, const toml::table& table, const std::strin
     if (const toml::table* sub = node.as_table()) {
       Flatten(file, *sub, path, out);
     } else if (const toml::array* array = node.as_array()) {
+      // An overlay sets numbers element by element: an empty array would set nothing, silently.
+      if (array->empty()) {
+        throw InputError(file, LineOf(*array), "params." + path,
+                         "an empty array sets nothing (an overlay sets numbers, element by "
+                         "element; to clear a list, write it in the suite)");
+      }
       int index = 1;
       for (const toml::node& element : *array) {
         if (element.is_array() || element.is_table()) {
