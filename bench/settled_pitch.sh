@@ -5,7 +5,7 @@
 # the gaits' own by default); this is the map the walker itself would give. The second argument
 # sets [controller.slope] touchdown_heights (docs/design/slope.md, "Slope adaptation"), the
 # third the speeds (empty: the 16 below), the fourth the gait database (default: gaits/). The
-# adaptive preset's start map (velocity_control.start_pitch_map_deg) is this table for gaits/.
+# adaptive preset's settled map (velocity_control.settled_pitch_map_deg) is this table for gaits/.
 #
 #   bash bench/settled_pitch.sh [BUILD_DIR] [false|true] ["0.30 0.40 ..."] [DATABASE]
 set -euo pipefail

@@ -73,8 +73,8 @@ TEST_F(ParamsTest, BadOverlayFilesAreInputErrors) {
                         Case{"[other]\nx = 1\n", 1, "unknown key"},
                         Case{"x = 1\n", 1, "unknown key"},
                         Case{"[params]\n\"a\" = nan\n", 2, "finite"},
-                        Case{"[params]\n\"controller.velocity_control.start_pitch_map_deg\" = []\n",
-                             2, "an empty array sets nothing"}}) {
+                        Case{"[params]\n\"controller.velocity_control.k_p\" = []\n", 2,
+                             "an empty array sets nothing"}}) {
     try {
       Overlay(c.text);
       ADD_FAILURE() << "no error for " << c.text;

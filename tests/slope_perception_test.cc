@@ -32,7 +32,7 @@ class SlopePerceptionTest : public testing::ScratchDirTest {
             "/gaits\"\nk_p = 0\nk_v = 0\n" +
             "[controller.slope]\ntouchdown_heights = " + (touchdown_heights ? "true" : "false") +
             // The pitch held is the gaits' map's at the command (no start map of its own).
-            "\n[controller.velocity_control]\nstart_pitch_map_deg = []\n");
+            "\n[controller.velocity_control]\nsettled_pitch_map_deg = []\n");
     Scenario s = LoadScenario(path);
     s.walker.log_every = 0;
     const std::shared_ptr<const GaitLibrary> library = LoadGaitLibrary(s.pattern);

@@ -228,8 +228,12 @@ TEST(VelocityControlTest, EachRangedKeyIsCheckedAtBothEnds) {
        3.0},
       {"velocity_control.drop_gap must be in [0, 3] m/s", &VelocityControlParams::drop_gap, 0.0,
        3.0},
-      {"velocity_control.start_map_clear must be in [0, 100] m",
-       &VelocityControlParams::start_map_clear, 0.0, 100.0},
+      {"velocity_control.settled_start_clear must be in [0, 100] m",
+       &VelocityControlParams::settled_start_clear, 0.0, 100.0},
+      {"velocity_control.settled_feedforward_gain must be in [0, 2]",
+       &VelocityControlParams::settled_feedforward_gain, 0.0, 2.0},
+      {"velocity_control.settled_rise_extra must be in [0, 2]",
+       &VelocityControlParams::settled_rise_extra, 0.0, 2.0},
   };
   for (const Case& c : cases) {
     for (double value : {c.lo, c.hi}) {

@@ -245,8 +245,9 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   if (measured && !warming_up_ && !hold_pitch && !terrain_steps_.HoldsPitch() &&
       !response_.HoldsPitch()) {
     if (!speed_.started()) {
-      // The start's own pitch map only on open level ground (velocity_control.start_map_clear).
-      const double clear = p_.velocity_control.start_map_clear;
+      // The settled map at the start only on open level ground
+      // (velocity_control.settled_start_clear).
+      const double clear = p_.velocity_control.settled_start_clear;
       speed_.UseStartMap(clear <= 0.0 ||
                          OpenLevelGround(obs.terrain, std::min(landing.x(), other_foot.x()),
                                          std::max(landing.x(), other_foot.x()) + clear));

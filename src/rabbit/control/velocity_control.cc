@@ -21,7 +21,9 @@ const std::vector<VelocityControlRange>& VelocityControlRanges() {
       {"v_d_rate_down_below", &P::v_d_rate_down_below, 0.0, 3.0, " m/s"},
       {"drop_min", &P::drop_min, 0.0, 3.0, " m/s"},
       {"drop_gap", &P::drop_gap, 0.0, 3.0, " m/s"},
-      {"start_map_clear", &P::start_map_clear, 0.0, 100.0, " m"},
+      {"settled_start_clear", &P::settled_start_clear, 0.0, 100.0, " m"},
+      {"settled_feedforward_gain", &P::settled_feedforward_gain, 0.0, 2.0, ""},
+      {"settled_rise_extra", &P::settled_rise_extra, 0.0, 2.0, ""},
   };
   return ranges;
 }
@@ -37,12 +39,12 @@ bool VelocityControlParams::IsValid(std::string* error) const {
       return false;
     }
   }
-  for (const auto* points : {&pitch_map, &start_pitch_map}) {
+  for (const auto* points : {&pitch_map, &settled_pitch_map}) {
     for (const auto& [v, q] : *points) {
       if (!(std::isfinite(v) && std::isfinite(q) && v >= 0.0 && v < 3.0 &&
             std::abs(q) < M_PI / 4)) {
         *error = std::string("velocity_control.") +
-                 (points == &pitch_map ? "pitch_map_deg" : "start_pitch_map_deg") +
+                 (points == &pitch_map ? "pitch_map_deg" : "settled_pitch_map_deg") +
                  ": each point needs V in [0, 3) m/s and |q0_d| < 45 deg";
         return false;
       }
@@ -109,7 +111,7 @@ VelocityControl::VelocityControl(const VelocityControlParams& params, double k_p
       q0_d_min_(q0_d_min),
       q0_d_max_(q0_d_max),
       map_(std::move(map)),
-      start_map_(params.start_pitch_map),
+      settled_map_(params.settled_pitch_map),
       step_map_(params.step_map),
       q0_d_(q0_d_initial) {
   std::string error;
@@ -156,7 +158,15 @@ double VelocityControl::Command(double v_d, double v_m, double v_profile) {
   if (dropping_ && next < v_c_) since_drop_ = 0;
   const double ff_gain =
       p_.feedforward_gain + (rising_ && next > v_c_ ? p_.feedforward_rise_extra : 0.0);
-  pending_ff_ += ff_gain * (map_.At(next) - map_.At(v_c_));
+  if (p_.settled_feedforward_gain > 0.0 && (rising_ || dropping_) &&
+      !settled_map_.points().empty()) {
+    // The profile's own rise or drop: toward the pitch the walker settles at (settled_pitch_map).
+    const double gain =
+        p_.settled_feedforward_gain + (rising_ && next > v_c_ ? p_.settled_rise_extra : 0.0);
+    pending_ff_ += gain * (settled_map_.At(next) - settled_map_.At(v_c_));
+  } else {
+    pending_ff_ += ff_gain * (map_.At(next) - map_.At(v_c_));
+  }
   v_c_ = next;
   return v_c_;
 }
@@ -174,8 +184,8 @@ double VelocityControl::Update(double v_m, double t_step, double extra) {
   pending_ff_ = 0.0;
   if (p_.enabled && p_.start_at_map && !started_) {
     started_ = true;
-    const bool own = use_start_map_ && !start_map_.points().empty();
-    q0_d_ = std::clamp((own ? start_map_ : map_).At(v_c_), q0_d_min_, q0_d_max_);
+    const bool settled = use_start_map_ && !settled_map_.points().empty();
+    q0_d_ = std::clamp((settled ? settled_map_ : map_).At(v_c_), q0_d_min_, q0_d_max_);
     last_error_ = error;
     last_v_m_ = v_m;
     have_error_ = true;

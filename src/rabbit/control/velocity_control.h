@@ -86,13 +86,19 @@ struct VelocityControlParams {
   std::vector<std::pair<double, double>> pitch_map;
   // At the first update after the warm-up, q0_d starts at P(V_c) instead of the start gait's.
   bool start_at_map = true;
-  // The start's own map S as (V in m/s, q0_d in rad) points (made non-decreasing): where the
-  // walker asks for it (UseStartMap), the first update sets q0_d = S(V_c) instead of P(V_c).
-  // Empty: P. The feed-forward keeps P.
-  std::vector<std::pair<double, double>> start_pitch_map;
-  // m: the walker asks for S only when the terrain from the back foot to this far beyond the front
-  // foot is level ground without an obstacle, a step or a change of grade (0: always).
-  double start_map_clear = 0.0;
+  // The walker's own settled pitch S as (V in m/s, q0_d in rad) points (made non-decreasing;
+  // empty: none). Where the walker asks for it (UseStartMap), the first update sets q0_d = S(V_c)
+  // instead of P(V_c); with settled_feedforward_gain > 0 the changes of V_c in a rise or a drop of
+  // the profile's own V_d lean by that share of S's change instead of feedforward_gain (and
+  // feedforward_rise_extra) of P's. Every other change (the slope, obstacle and step commands)
+  // keeps P.
+  std::vector<std::pair<double, double>> settled_pitch_map;
+  // m: the walker asks for S at the start only when the terrain from the back foot to this far
+  // beyond the front foot is level ground without an obstacle, a step or a change of grade (0:
+  // always).
+  double settled_start_clear = 0.0;
+  double settled_feedforward_gain = 0.0;  // 0: off, P for every change (the law bit for bit)
+  double settled_rise_extra = 0.0;        // added to it for the increases of V_c in a rise
   // Gait shift: m/s of the FIS's velocity input per rad of the law's pitch below the q0_d floor
   // (0: off, the law as above bit for bit), the largest shift (m/s), and the command (m/s) from
   // which on there is none.
@@ -162,8 +168,8 @@ class VelocityControl {
   // ignores it.
   double Update(double v_m, double t_step, double extra = 0.0);
   double q0_d() const { return q0_d_; }
-  // Before the first update: whether it takes the start's own map (start_pitch_map) rather than
-  // the pitch map. No effect without a start map or once started.
+  // Before the first update: whether it takes the settled map (settled_pitch_map) rather than the
+  // pitch map. No effect without a settled map or once started.
   void UseStartMap(bool use) { use_start_map_ = use; }
   bool started() const { return started_; }
   double command() const { return v_c_; }
@@ -177,7 +183,7 @@ class VelocityControl {
   VelocityControlParams p_;
   double k_p_, k_v_, q0_d_min_, q0_d_max_;
   PitchMap map_;
-  PitchMap start_map_;  // empty: map_
+  PitchMap settled_map_;  // empty: none
   bool use_start_map_ = false;
   StepMapControl step_map_;
   double q0_d_;
