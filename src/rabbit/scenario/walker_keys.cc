@@ -250,11 +250,11 @@ void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
     }
     p->pitch_map.push_back({row[0], row[1] * kDeg});
   }
-  // Written, even empty, it replaces the preset's (empty: the start takes the pitch map).
+  // Written, even empty, it replaces the preset's (empty: none, the pitch map everywhere).
   if (r.Has("settled_pitch_map_deg")) {
-    const std::vector<std::vector<double>> start = r.DoubleRows("settled_pitch_map_deg", 2);
+    const std::vector<std::vector<double>> rows = r.DoubleRows("settled_pitch_map_deg", 2);
     p->settled_pitch_map.clear();
-    for (const std::vector<double>& row : start) {
+    for (const std::vector<double>& row : rows) {
       if (!(row[0] >= 0.0 && row[0] < 3.0 && std::abs(row[1]) < 45.0)) {
         r.Fail("settled_pitch_map_deg",
                "each point [V_m_s, q0_d_deg] needs V in [0, 3) and |q0_d| < 45");
