@@ -241,27 +241,22 @@ void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
   if (law != "chapter" && law != "step_map") r.Fail("law", "expected \"chapter\" or \"step_map\"");
   p->law = law == "step_map" ? VelocityLaw::kStepMap : VelocityLaw::kChapter;
   ReadStepMapKeys(r.Table("step_map"), &p->step_map);
-  // Absent or empty: the reference gaits' map.
-  const std::vector<std::vector<double>> map = r.DoubleRows("pitch_map_deg", 2);
-  if (!map.empty()) p->pitch_map.clear();
-  for (const std::vector<double>& row : map) {
-    if (!(row[0] >= 0.0 && row[0] < 3.0 && std::abs(row[1]) < 45.0)) {
-      r.Fail("pitch_map_deg", "each point [V_m_s, q0_d_deg] needs V in [0, 3) and |q0_d| < 45");
-    }
-    p->pitch_map.push_back({row[0], row[1] * kDeg});
-  }
-  // Written, even empty, it replaces the preset's (empty: none, the pitch map everywhere).
-  if (r.Has("settled_pitch_map_deg")) {
-    const std::vector<std::vector<double>> rows = r.DoubleRows("settled_pitch_map_deg", 2);
-    p->settled_pitch_map.clear();
-    for (const std::vector<double>& row : rows) {
+  // A pitch map's [V_m_s, q0_d_deg] points, checked and in rad.
+  auto points = [&r](const char* key) {
+    std::vector<std::pair<double, double>> out;
+    for (const std::vector<double>& row : r.DoubleRows(key, 2)) {
       if (!(row[0] >= 0.0 && row[0] < 3.0 && std::abs(row[1]) < 45.0)) {
-        r.Fail("settled_pitch_map_deg",
-               "each point [V_m_s, q0_d_deg] needs V in [0, 3) and |q0_d| < 45");
+        r.Fail(key, "each point [V_m_s, q0_d_deg] needs V in [0, 3) and |q0_d| < 45");
       }
-      p->settled_pitch_map.push_back({row[0], row[1] * kDeg});
+      out.push_back({row[0], row[1] * kDeg});
     }
-  }
+    return out;
+  };
+  // Absent or empty: the reference gaits' map.
+  std::vector<std::pair<double, double>> map = points("pitch_map_deg");
+  if (!map.empty()) p->pitch_map = std::move(map);
+  // Written, even empty, it replaces the preset's (empty: none, the pitch map everywhere).
+  if (r.Has("settled_pitch_map_deg")) p->settled_pitch_map = points("settled_pitch_map_deg");
   r.Finish();
 }
 
