@@ -314,6 +314,36 @@ TEST(PushResponseTest, ForwardReachTowardTheCapturePoint) {
   EXPECT_EQ(RecoveryParams().response_reach_dead, 0.3);
 }
 
+// response_reach_ref_min: the reach compares only the bins where the reference's |v_orb| is at
+// least that. A reference near the pendulum's apex (v_orb 0.05 m/s, E = 0.0025 m^2/s^2) and a step
+// at 0.45 m/s (E = 0.2025: the hip speed of a 0.5 m/s walk differs by about 0.2 m/s) reads as
+// d = 0.4 > response_reach_dead: it reaches without the floor, not with one of 0.2 m/s; the same
+// d on a reference of 0.5 m/s reaches with it.
+TEST(PushResponseTest, ForwardReachSkipsBinsNearThePendulumsApex) {
+  RecoveryParams p = Params();
+  p.response_reach = 0.8;
+  p.response_reach_dead = 0.3;
+  const auto reaches = [](const RecoveryParams& params, double v_ref, double v) {
+    PushResponse r(params);
+    for (int n = 0; n < 8; ++n) Step(&r, 0.5 * n, v_ref);
+    r.Command(0.6, true);
+    r.OnTouchdown(4.0, 0.5);
+    for (int k = 0; k < 500; ++k) r.Observe(4.0 + 1e-3 * k, k < 250 ? v_ref : v, true, 1.0);
+    return r.Reaching();
+  };
+  EXPECT_TRUE(reaches(p, 0.05, 0.45));
+  EXPECT_TRUE(reaches(p, -0.05, 0.35));
+  p.response_reach_ref_min = 0.2;
+  EXPECT_FALSE(reaches(p, 0.05, 0.45));
+  EXPECT_FALSE(reaches(p, -0.05, 0.35));
+  EXPECT_FALSE(reaches(p, 0.19, 0.59));
+  EXPECT_TRUE(reaches(p, 0.21, 0.61));
+  EXPECT_TRUE(reaches(p, 0.5, 0.9));
+  // Within response_reach_dead on any reference: nothing.
+  EXPECT_FALSE(reaches(p, 0.5, 0.75));
+  EXPECT_EQ(RecoveryParams().response_reach_ref_min, 0.0);  // library default: every bin
+}
+
 TEST(PushResponseTest, InvalidParametersAreRefused) {
   std::string error;
   EXPECT_TRUE(Params().IsValid(&error)) << error;
@@ -351,6 +381,12 @@ TEST(PushResponseTest, InvalidParametersAreRefused) {
   p.response_reach_dead = -0.1;
   EXPECT_FALSE(p.IsValid(&error));
   EXPECT_NE(error.find("response_reach_dead must be in [0, 2] m/s"), std::string::npos) << error;
+  p = Params();
+  p.response_reach_ref_min = -0.1;
+  EXPECT_FALSE(p.IsValid(&error));
+  EXPECT_NE(error.find("response_reach_ref_min must be in [0, 2] m/s"), std::string::npos) << error;
+  p.response_reach_ref_min = 2.5;
+  EXPECT_FALSE(p.IsValid(&error));
 }
 
 // The default walker with the response on and off on an undisturbed walk (push_forward.toml

@@ -109,6 +109,8 @@ TEST_F(SuiteTest, RecoveryKeysAreChecked) {
               "scenario[1].controller.recovery.response_reach", "must be in [0, 1]");
   ExpectError(Walker(head + "response_reach_dead = -0.1\n"), 15,
               "scenario[1].controller.recovery.response_reach_dead", "must be in [0, 2] m/s");
+  ExpectError(Walker(head + "response_reach_ref_min = 3\n"), 15,
+              "scenario[1].controller.recovery.response_reach_ref_min", "must be in [0, 2] m/s");
   ExpectError(Walker(head + "placment_gain = 1\n"), 15,
               "scenario[1].controller.recovery.placment_gain", "unknown key");
   ExpectError(Walker(head + "enabled = 1\n"), 15, "scenario[1].controller.recovery.enabled", "");

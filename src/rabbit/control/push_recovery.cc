@@ -75,6 +75,11 @@ bool RecoveryParams::IsValid(std::string* error) const {
     *error = "recovery.response_reach_dead must be in [0, 2] m/s";
     return false;
   }
+  if (!(std::isfinite(response_reach_ref_min) && response_reach_ref_min >= 0.0 &&
+        response_reach_ref_min <= 2.0)) {
+    *error = "recovery.response_reach_ref_min must be in [0, 2] m/s";
+    return false;
+  }
   if (nominal_steps < 1 || nominal_steps > 100) {
     *error = "recovery.nominal_steps must be in [1, 100]";
     return false;

@@ -85,6 +85,10 @@ struct RecoveryParams {
   // (push_response.h).
   double response_reach = 0.0;
   double response_reach_dead = 0.3;
+  // m/s (0: every bin): the reach compares only the phase bins where the reference's |v_orb| is
+  // at least this. Near the pendulum's apex (E about 0) v_orb = sqrt(|E|) turns a small
+  // difference of energy into a large one of speed (push_response.h).
+  double response_reach_ref_min = 0.0;
   double gravity = 9.81;  // m/s^2, for the pendulum's omega^2 = g / y_hip
   bool IsValid(std::string* error) const;
 };

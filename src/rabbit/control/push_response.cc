@@ -61,6 +61,8 @@ void PushResponse::ReachCheck(double t) {
   if (bin < kFirstBin || !bins_.has(bin)) return;
   const int ref_bin = std::min(bin, kLastBin);
   if (!has_ref_[leg_][ref_bin]) return;
+  // Near the pendulum's apex a small difference of energy is a large one of v_orb.
+  if (std::abs(ref_[leg_][ref_bin]) < p_.response_reach_ref_min) return;
   if (bins_.mean(bin) - ref_[leg_][ref_bin] > p_.response_reach_dead) reach_step_ = true;
 }
 

@@ -43,7 +43,10 @@
 //                 is raised (never lowered) response_reach of the way toward the angle of a
 //                 straight leg whose foot is on the hip's capture point x + xd sqrt(y / g): a
 //                 Raibert / capture-point step; without it the hip ran ahead of feet that kept the
-//                 command's step, one long step, then a split stance or a fall;
+//                 command's step, one long step, then a split stance or a fall. Only the bins
+//                 where the reference's |v_orb| is at least response_reach_ref_min are compared:
+//                 near the pendulum's apex v_orb = sqrt(|E|) is steep in E, and the uneven
+//                 strides of a walk that has just settled read there as forward pushes;
 //   trunk         q0_d moves by response_trunk_gain (|d| - response_dead) sign(d) (within
 //                 +-response_trunk_max; measured, not used by the presets);
 //   gait pattern  the fuzzy system's velocity input moves by response_fis_gain d (within

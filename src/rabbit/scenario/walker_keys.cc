@@ -216,6 +216,8 @@ void ReadRecovery(TomlReader r, RecoveryParams* p) {
   p->response_reach = nonnegative("response_reach", p->response_reach, 1.0, "[0, 1]");
   p->response_reach_dead =
       nonnegative("response_reach_dead", p->response_reach_dead, 2.0, "[0, 2] m/s");
+  p->response_reach_ref_min =
+      nonnegative("response_reach_ref_min", p->response_reach_ref_min, 2.0, "[0, 2] m/s");
   p->gravity = r.Double("gravity", p->gravity);
   if (!(p->gravity > 0.0 && p->gravity <= 100.0)) r.Fail("gravity", "must be in (0, 100] m/s^2");
   r.Finish();
