@@ -20,8 +20,9 @@ constexpr double kTolerance = 1e-12;
 constexpr double kFloor = -0.1, kCeiling = 0.45;
 
 // Enabled, no feed-forward, no start at the map and no derivative: the law is K_P e alone.
-VelocityControl Control(double gain, double max, double below) {
+VelocityControl Control(double gain, double max, double below, bool idle_windup = true) {
   VelocityControlParams p;
+  p.idle_shift_windup = idle_windup;
   p.enabled = true;
   p.feedforward_gain = 0.0;
   p.start_at_map = false;
@@ -56,6 +57,38 @@ TEST(GaitShiftTest, SplitRangeByHand) {
   }
   EXPECT_DOUBLE_EQ(c.q0_d(), kCeiling);
   EXPECT_DOUBLE_EQ(c.FisOffset(), 0.0);
+}
+
+// Idle (the walker's rule gait choice in its place) and without windup: the effort stops at the
+// floor and the stored shift is dropped, so the pitch rises at the first update that asks for it;
+// with windup (the default) the same updates unwind the effort first, as in SplitRangeByHand.
+TEST(GaitShiftTest, AnIdleShiftWithoutWindupStopsAtTheFloor) {
+  for (const bool windup : {true, false}) {
+    VelocityControl c = Control(4.0, 0.1, 0.4, windup);
+    c.Command(0.32);
+    // Not idle: u = -0.11, the floor, a shift of 4 * -0.01 = -0.04 m/s either way.
+    EXPECT_NEAR(c.Update(0.42, 0.5), kFloor, kTolerance);
+    EXPECT_NEAR(c.FisOffset(), -0.04, kTolerance);
+    c.SetShiftIdle(true);
+    c.Command(0.32);
+    EXPECT_NEAR(c.Update(0.42, 0.5), kFloor, kTolerance);
+    // With windup u = -0.13 holds the largest shift; without, nothing is stored.
+    EXPECT_NEAR(c.FisOffset(), windup ? -0.1 : 0.0, kTolerance) << windup;
+    // Too slow by 0.1 (+0.02 rad): from u = -0.125 the pitch stays at the floor; from the floor
+    // it rises to -0.08 at once.
+    c.Command(0.32);
+    EXPECT_NEAR(c.Update(0.22, 0.5), windup ? kFloor : kFloor + 0.02, kTolerance) << windup;
+    // No longer idle, the shift works as before: too fast by 0.1 twice from -0.08 (windup off),
+    // u = -0.1 then -0.12: a shift of -0.08 m/s.
+    if (!windup) {
+      c.SetShiftIdle(false);
+      c.Command(0.32);
+      EXPECT_NEAR(c.Update(0.42, 0.5), kFloor, kTolerance);
+      c.Command(0.32);
+      EXPECT_NEAR(c.Update(0.42, 0.5), kFloor, kTolerance);
+      EXPECT_NEAR(c.FisOffset(), -0.08, kTolerance);
+    }
+  }
 }
 
 TEST(GaitShiftTest, NoShiftFromTheGateOn) {
@@ -130,6 +163,13 @@ class GaitShiftKeysTest : public testing::WalkerKeysTest {
 TEST_F(GaitShiftKeysTest, ReadAndValidated) {
   const VelocityControlParams shipped = LoadSuite(Write("")).scenarios[0].walker.velocity_control;
   EXPECT_DOUBLE_EQ(shipped.gait_shift_gain, 2.0);  // the adaptive preset turns it on
+  EXPECT_FALSE(shipped.idle_shift_windup);           // ... and off where the shift is idle
+  EXPECT_TRUE(VelocityControlParams().idle_shift_windup);
+  EXPECT_TRUE(LoadSuite(Write("idle_shift_windup = true\n"))
+                  .scenarios[0]
+                  .walker.velocity_control.idle_shift_windup);
+  ExpectError("idle_shift_windup = 1\n",
+              "scenario[1].controller.velocity_control.idle_shift_windup");
   const Suite suite =
       LoadSuite(Write("gait_shift_gain = 2.0\ngait_shift_max = 0.15\ngait_shift_below = 0.45\n"));
   const VelocityControlParams& v = suite.scenarios[0].walker.velocity_control;

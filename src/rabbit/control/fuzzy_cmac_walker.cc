@@ -240,6 +240,10 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
   choice_.OnCommand(v_c);
   const bool hold_pitch = pitch_hold_left_ > 0;  // planner.hold_pitch_steps after a step over
   if (hold_pitch) --pitch_hold_left_;
+  // Below rule_gait_choice_mixed_below the choice takes the gait shift's place while V_c holds
+  // (the law then keeps no effort below the floor unless velocity_control.idle_shift_windup).
+  const bool choice_shift = choice_.holding() && v_c < p_.rule_gait_choice_mixed_below;
+  speed_.SetShiftIdle(choice_shift);
   // Nor at the steps.hold_steps touchdowns from a step's crossing (its V_M is the climb's or the
   // drop's, not the gait's).
   if (measured && !warming_up_ && !hold_pitch && !terrain_steps_.HoldsPitch() &&
@@ -261,8 +265,6 @@ void FuzzyCmacWalker::OnTouchdown(const Observation& obs) {
     d_noise = p_.d_obs_noise * Gaussian();
     d_obs = std::clamp(d_obs + d_noise, 0.0, p_.d_obs_max);
   }
-  // Below rule_gait_choice_mixed_below the choice takes the gait shift's place while V_c holds.
-  const bool choice_shift = choice_.holding() && v_c < p_.rule_gait_choice_mixed_below;
   fis_v_ = v_m_ + p_.fis_v_lead * (v_c - v_m_) + slope_.FisVelocityOffset() +
            (choice_shift ? 0.0 : speed_.FisOffset());
   fis_d_obs_ = d_obs;

@@ -200,8 +200,12 @@ double VelocityControl::Update(double v_m, double t_step, double extra) {
   // After a decrease of V_c, the law may lower q0_d but not raise it (drop_no_raise).
   if (since_drop_ >= 0 && since_drop_ < p_.drop_no_raise) dq0 = std::min(dq0, 0.0);
   if (p_.gait_shift_gain > 0.0) {
-    // Split range: the effort below the q0_d floor shifts the gait pattern (FisOffset).
-    const double reach = v_c_ < p_.gait_shift_below ? p_.gait_shift_max / p_.gait_shift_gain : 0.0;
+    // Split range: the effort below the q0_d floor shifts the gait pattern (FisOffset); an idle
+    // shift without windup neither stores nor keeps any.
+    const bool idle = shift_idle_ && !p_.idle_shift_windup;
+    if (idle) excess_ = 0.0;
+    const double reach =
+        v_c_ < p_.gait_shift_below && !idle ? p_.gait_shift_max / p_.gait_shift_gain : 0.0;
     const double u = std::clamp(q0_d_ + excess_ + dq0, q0_d_min_ - reach, q0_d_max_);
     q0_d_ = std::clamp(u, q0_d_min_, q0_d_max_);
     excess_ = u - q0_d_;

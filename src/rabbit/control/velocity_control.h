@@ -31,7 +31,11 @@
 // unwinds before the pitch leaves the floor. At the slow end the blend of the slowest gait (walked
 // by its rules) with the next (tracked) walks faster than either, at any pitch in the range
 // (docs/design/velocity-control.md, "Velocity control"). At or above gait_shift_below, u = q0_d (no
-// shift).
+// shift). Where the walker's rule gait choice takes the shift's place (SetShiftIdle), the shift
+// moves nothing; with idle_shift_windup false u stops at the floor there and the stored shift is
+// dropped, so that the pitch rises at the first update whose error asks for it (after a drop to
+// 0.30-0.37 m/s the effort wound below the floor held q0_d there for several steps while the
+// stride ran 0.05-0.06 m/s slow).
 //
 // Drops (enabled only). A drop starts at a touchdown where the speed profile has stepped down by
 // more than drop_min since the previous one, with V_d below V_c, and lasts until V_c has reached
@@ -105,6 +109,11 @@ struct VelocityControlParams {
   double gait_shift_gain = 0.0;
   double gait_shift_max = 0.1;
   double gait_shift_below = 0.4;
+  // Where the shift is idle (SetShiftIdle: the walker's rule gait choice takes its place while
+  // the command holds), true (the default, the law bit for bit) still lets the effort go below
+  // the floor, where it moves nothing and must unwind before q0_d can rise; false stops the
+  // effort at the floor there and drops the stored shift.
+  bool idle_shift_windup = true;
   // Drops: the rate while V_c decreases (0: v_d_rate; v_d_rate 0 is no limit either way), the
   // largest gap below the measured stride V_M that a decreasing V_c may open (m/s, 0: off), and the
   // touchdowns after a decrease of V_c during which the law does not raise q0_d (0: off). All off
@@ -173,6 +182,8 @@ class VelocityControl {
   void UseStartMap(bool use) { use_start_map_ = use; }
   bool started() const { return started_; }
   double command() const { return v_c_; }
+  // Whether the gait shift is idle at the coming updates (idle_shift_windup); false until set.
+  void SetShiftIdle(bool idle) { shift_idle_ = idle; }
   // The shift of the FIS's velocity input (m/s): the step map's, or with the chapter's law the
   // gait shift (0 when off).
   double FisOffset() const {
@@ -198,6 +209,7 @@ class VelocityControl {
   bool rising_ = false;       // a rise of the profile's own V_d is under way
   double last_source_ = 0.0;  // the profile's V_d at the previous call
   int since_drop_ = -1;       // touchdowns since V_c last decreased (-1: never)
+  bool shift_idle_ = false;   // the walker's gait choice holds in the gait shift's place
   double excess_ = 0.0;       // gait shift: the effort u below the q0_d floor, u - q0_d (rad, <= 0)
 };
 

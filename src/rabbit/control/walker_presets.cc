@@ -168,6 +168,13 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // (speed_commands 30 -> 32, every other family the same runs), scenarios/train/speed.toml
       // 135 -> 137 of 180 (docs/design/velocity-control.md, "Velocity control").
       w.rule_gait_choice_mixed_point = 0.75;
+      // ... and while the choice holds there in the gait shift's place, the law's effort stops at
+      // the q0_d floor instead of winding up below it, where it moved nothing and held the pitch
+      // at the floor for several steps after a drop to 0.30-0.37 m/s while the stride ran
+      // 0.05-0.06 m/s slow: speed_commands of eight training sets 542 -> 559 of 680 (20 gained,
+      // 3 lost), all sixteen families of three 2,539 -> 2,544 of 2,880 with every other family
+      // the same runs (docs/design/velocity-control.md, "Velocity control").
+      w.velocity_control.idle_shift_windup = false;
       // Steps and platforms: 51 of 120 training members (scenarios/train/steps.toml) against 4
       // without (docs/design/steps.md, "Steps and platforms").
       w.steps.enabled = true;

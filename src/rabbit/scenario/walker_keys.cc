@@ -229,6 +229,7 @@ void ReadRecovery(TomlReader r, RecoveryParams* p) {
 void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
   p->enabled = r.Bool("enabled", p->enabled);
   p->start_at_map = r.Bool("start_at_map", p->start_at_map);
+  p->idle_shift_windup = r.Bool("idle_shift_windup", p->idle_shift_windup);
   for (const VelocityControlRange& range : VelocityControlRanges()) {
     double& value = p->*range.field;
     value = r.Double(range.key, value);
