@@ -163,7 +163,7 @@ class GaitShiftKeysTest : public testing::WalkerKeysTest {
 TEST_F(GaitShiftKeysTest, ReadAndValidated) {
   const VelocityControlParams shipped = LoadSuite(Write("")).scenarios[0].walker.velocity_control;
   EXPECT_DOUBLE_EQ(shipped.gait_shift_gain, 2.0);  // the adaptive preset turns it on
-  EXPECT_FALSE(shipped.idle_shift_windup);           // ... and off where the shift is idle
+  EXPECT_FALSE(shipped.idle_shift_windup);         // ... and off where the shift is idle
   EXPECT_TRUE(VelocityControlParams().idle_shift_windup);
   EXPECT_TRUE(LoadSuite(Write("idle_shift_windup = true\n"))
                   .scenarios[0]

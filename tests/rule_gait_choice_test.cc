@@ -1,8 +1,8 @@
 // The choice between two neighbouring rule-walked gaits (rule_gait_choice.h): the nearer gait
 // between two rule-walked ones (and, below rule_gait_choice_mixed_below, next to a tracked one),
 // the input unchanged elsewhere, the choice only while the command holds, and the walker keys
-// rule_gait_choice, rule_gait_choice_mixed_below and rule_gait_choice_mixed_point (adaptive
-// preset against the chapter's).
+// rule_gait_choice, rule_gait_choice_mixed_below, rule_gait_choice_mixed_point and
+// rule_gait_choice_hold_rate (adaptive preset against the chapter's).
 #include "rabbit/control/rule_gait_choice.h"
 
 #include <gtest/gtest.h>
@@ -69,6 +69,30 @@ TEST(RuleGaitChoiceTest, OnlyWhileTheCommandHolds) {
   EXPECT_DOUBLE_EQ(choice.Input(0.83), 0.83);
   choice.OnCommand(0.83);
   EXPECT_DOUBLE_EQ(choice.Input(0.83), 0.81);
+}
+
+// hold_rate: a command that moves by at most that much from one touchdown to the next (a slow
+// ramp) holds; a larger move releases the choice into the blend as before.
+TEST(RuleGaitChoiceTest, ASlowRampHoldsWithAHoldRate) {
+  RuleGaitChoice choice(true, Pitches(), kShare, 0.0, 0.5, 0.02);
+  choice.OnCommand(0.86);
+  choice.OnCommand(0.86);
+  ASSERT_TRUE(choice.holding());
+  choice.OnCommand(0.845);  // 0.015 down: holds, and the input crosses the midpoint (0.85)
+  EXPECT_TRUE(choice.holding());
+  EXPECT_DOUBLE_EQ(choice.Input(0.845), 0.81);
+  choice.OnCommand(0.83);  // 0.015 again: holds
+  EXPECT_TRUE(choice.holding());
+  choice.OnCommand(0.80);  // 0.03: the blend
+  EXPECT_FALSE(choice.holding());
+  EXPECT_DOUBLE_EQ(choice.Input(0.83), 0.83);
+  // Without a hold rate the same slow ramp releases the choice at its first move.
+  RuleGaitChoice exact(true, Pitches(), kShare);
+  exact.OnCommand(0.86);
+  exact.OnCommand(0.86);
+  exact.OnCommand(0.859);
+  EXPECT_FALSE(exact.holding());
+  EXPECT_DOUBLE_EQ(exact.Input(0.859), 0.859);
 }
 
 // mixed_below: between a rule-walked and a tracked neighbour the nearer gait too, where the
@@ -153,6 +177,16 @@ TEST_F(RuleGaitChoiceKeysTest, ReadAndValidated) {
                    0.6);
   ExpectSuiteError(Suite("rule_gait_choice_mixed_point = 1.5\n"), 9,
                    "scenario[1].controller.rule_gait_choice_mixed_point", "must be in [0, 1]");
+  EXPECT_DOUBLE_EQ(adaptive.rule_gait_choice_hold_rate, 0.02);
+  EXPECT_DOUBLE_EQ(chapter.rule_gait_choice_hold_rate, 0.0);
+  EXPECT_DOUBLE_EQ(Walker("rule_gait_choice_hold_rate = 0.05\n").rule_gait_choice_hold_rate, 0.05);
+  ExpectSuiteError(Suite("rule_gait_choice_hold_rate = -0.01\n"), 9,
+                   "scenario[1].controller.rule_gait_choice_hold_rate", "must be in [0, 1]");
+  WalkerParams bad = adaptive;
+  bad.rule_gait_choice_hold_rate = 1.5;
+  std::string error;
+  EXPECT_FALSE(bad.IsValid(&error));
+  EXPECT_NE(error.find("rule_gait_choice_hold_rate"), std::string::npos) << error;
 }
 
 }  // namespace

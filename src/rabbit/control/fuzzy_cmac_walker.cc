@@ -43,7 +43,8 @@ FuzzyCmacWalker::FuzzyCmacWalker(const WalkerParams& params,
           PitchMap(params.velocity_control.pitch_map.empty() ? params.gait_pitches
                                                              : params.velocity_control.pitch_map)),
       choice_(params.rule_gait_choice, params.gait_pitches, params.rule_share,
-              params.rule_gait_choice_mixed_below, params.rule_gait_choice_mixed_point),
+              params.rule_gait_choice_mixed_below, params.rule_gait_choice_mixed_point,
+              params.rule_gait_choice_hold_rate),
       rng_(CmacMix64(params.seed)) {
   std::string error;
   if (!p_.IsValid(&error)) throw std::invalid_argument("walker: " + error);

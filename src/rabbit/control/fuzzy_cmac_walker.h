@@ -91,6 +91,9 @@ struct WalkerParams {
   // Where between such a mixed pair the input moves from the slower gait to the faster: at this
   // share of the way between their speeds (in [0, 1]; 0.5: the midpoint).
   double rule_gait_choice_mixed_point = 0.5;
+  // The command holds for the choice while it changes by at most this much from one touchdown to
+  // the next (m/s in [0, 1]; 0: only an unchanged command holds).
+  double rule_gait_choice_hold_rate = 0.0;
   // Per reference gait, in the gait pattern's order (filled from the gait database, not a key).
   std::vector<PragmaticParams> gait_rules;
   // Perception.

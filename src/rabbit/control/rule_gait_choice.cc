@@ -31,10 +31,11 @@ double ChooseRuleGait(double v, const std::vector<double>& speeds,
 RuleGaitChoice::RuleGaitChoice(bool enabled,
                                const std::vector<std::pair<double, double>>& gait_pitches,
                                std::vector<double> rule_share, double mixed_below,
-                               double mixed_point)
+                               double mixed_point, double hold_rate)
     : enabled_(enabled),
       mixed_below_(mixed_below),
       mixed_point_(mixed_point),
+      hold_rate_(hold_rate),
       rule_share_(std::move(rule_share)) {
   for (const auto& [v, q0] : gait_pitches) speeds_.push_back(v);
   if (enabled_ && !rule_share_.empty() && speeds_.size() != rule_share_.size()) {
@@ -43,7 +44,7 @@ RuleGaitChoice::RuleGaitChoice(bool enabled,
 }
 
 void RuleGaitChoice::OnCommand(double v_c) {
-  holding_ = have_command_ && v_c == last_command_;
+  holding_ = have_command_ && std::abs(v_c - last_command_) <= hold_rate_;  // 0: unchanged only
   have_command_ = true;
   last_command_ = v_c;
 }

@@ -11,10 +11,12 @@
 // midpoint), so that the pattern walks one of them; the trunk pitch of the velocity control then
 // brings the stride to V_d. Between any other neighbours (one tracked gait) the input is left
 // unchanged. The choice acts while the command V_c holds (is the same as at the touchdown
-// before): while V_c moves (a ramp, or the rate limit after a step of V_d) the blend carries the
-// pattern from one gait to the next, as a jump from the 0.9 to the 0.8 m/s gait in a ramp down
-// leaves the robot at the faster gait's speed on the slower gait's pattern, and the tracked gait
-// that joins next takes a long step. With mixed_below the choice acts also between a rule-walked
+// before, or within hold_rate of it): while V_c moves faster (a ramp, or the rate limit after a
+// step of V_d) the blend carries the pattern from one gait to the next, as a jump from the 0.9 to
+// the 0.8 m/s gait in a ramp down leaves the robot at the faster gait's speed on the slower gait's
+// pattern, and the tracked gait that joins next takes a long step. A slow ramp (a few mm/s a
+// step) that starts from a level between the two rule-walked gaits is no such move: released
+// into the blend there, the walk fell within a few steps; hold_rate keeps the choice through it. With mixed_below the choice acts also between a rule-walked
 // and a tracked neighbour below that speed (on the shipped database the 0.3 and 0.4 m/s gaits,
 // whose blend walks faster than either); the walker then leaves out the gait shift there while
 // the command holds. Between such a mixed pair the switch lies at mixed_point of the way from the
@@ -46,9 +48,10 @@ class RuleGaitChoice {
   // the gait pattern's order; enabled with a share per gait but not a speed per gait throws
   // std::invalid_argument.
   RuleGaitChoice(bool enabled, const std::vector<std::pair<double, double>>& gait_pitches,
-                 std::vector<double> rule_share, double mixed_below = 0.0,
-                 double mixed_point = 0.5);
-  // At each touchdown: the command V_c of the coming step.
+                 std::vector<double> rule_share, double mixed_below = 0.0, double mixed_point = 0.5,
+                 double hold_rate = 0.0);
+  // At each touchdown: the command V_c of the coming step. It holds when it differs from the
+  // previous touchdown's by at most hold_rate (m/s; 0: only an unchanged command).
   void OnCommand(double v_c);
   // The gait pattern's velocity input after the choice.
   double Input(double v) const {
@@ -62,6 +65,7 @@ class RuleGaitChoice {
   bool enabled_ = false;
   double mixed_below_ = 0.0;
   double mixed_point_ = 0.5;
+  double hold_rate_ = 0.0;
   std::vector<double> speeds_, rule_share_;
   bool have_command_ = false, holding_ = false;
   double last_command_ = 0.0;

@@ -69,6 +69,10 @@ bool WalkerParams::IsValid(std::string* error) const {
     *error = "rule_gait_choice_mixed_point must be in [0, 1]";
     return false;
   }
+  if (!(rule_gait_choice_hold_rate >= 0.0 && rule_gait_choice_hold_rate <= 1.0)) {
+    *error = "rule_gait_choice_hold_rate must be in [0, 1] m/s";
+    return false;
+  }
   if (!(std::isfinite(fis_v_lead) && fis_v_lead >= 0.0 && fis_v_lead <= 2.0)) {
     *error = "fis_v_lead must be in [0, 2]";
     return false;

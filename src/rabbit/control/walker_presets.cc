@@ -175,6 +175,14 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // 3 lost), all sixteen families of three 2,539 -> 2,544 of 2,880 with every other family
       // the same runs (docs/design/velocity-control.md, "Velocity control").
       w.velocity_control.idle_shift_windup = false;
+      // The command holds for the gait choice while it moves by at most 0.02 m/s a touchdown (a
+      // slow ramp): a ramp starting from a level near the 0.8 / 0.9 m/s gaits' midpoint otherwise
+      // released the choice into their blend, which walked like neither and fell within a few
+      // steps. speed_ramps of eight training sets 657 -> 676 of 680 (21 gained, 2 lost),
+      // speed_commands 559 -> 555 (2 gained, 6 lost), all sixteen families of three 2,544 ->
+      // 2,550 of 2,880 with only the two speed families walking differently
+      // (docs/design/velocity-control.md, "Velocity control").
+      w.rule_gait_choice_hold_rate = 0.02;
       // Steps and platforms: 51 of 120 training members (scenarios/train/steps.toml) against 4
       // without (docs/design/steps.md, "Steps and platforms").
       w.steps.enabled = true;

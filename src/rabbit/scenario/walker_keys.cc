@@ -299,6 +299,11 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   if (!(w.rule_gait_choice_mixed_point >= 0.0 && w.rule_gait_choice_mixed_point <= 1.0)) {
     t->Fail("rule_gait_choice_mixed_point", "must be in [0, 1]");
   }
+  w.rule_gait_choice_hold_rate =
+      t->Double("rule_gait_choice_hold_rate", w.rule_gait_choice_hold_rate);
+  if (!(w.rule_gait_choice_hold_rate >= 0.0 && w.rule_gait_choice_hold_rate <= 1.0)) {
+    t->Fail("rule_gait_choice_hold_rate", "must be in [0, 1] m/s");
+  }
   w.lift.clearance = t->Double("lift_clearance", w.lift.clearance);
   w.lift.height_gain = t->Double("lift_height_gain", w.lift.height_gain);
   w.lift.d_obs = t->Double("lift_d_obs", w.lift.d_obs);
