@@ -16,7 +16,8 @@
 // the 0.8 m/s gait in a ramp down leaves the robot at the faster gait's speed on the slower gait's
 // pattern, and the tracked gait that joins next takes a long step. A slow ramp (a few mm/s a
 // step) that starts from a level between the two rule-walked gaits is no such move: released
-// into the blend there, the walk fell within a few steps; hold_rate keeps the choice through it. With mixed_below the choice acts also between a rule-walked
+// into the blend there, the walk fell within a few steps; hold_rate keeps the choice through it.
+// With mixed_below the choice acts also between a rule-walked
 // and a tracked neighbour below that speed (on the shipped database the 0.3 and 0.4 m/s gaits,
 // whose blend walks faster than either); the walker then leaves out the gait shift there while
 // the command holds. Between such a mixed pair the switch lies at mixed_point of the way from the
