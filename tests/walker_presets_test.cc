@@ -110,6 +110,30 @@ TEST(WalkerPresets, TheAdaptiveWalkerStepsOverLowerAndShorter) {
   EXPECT_TRUE(a.IsValid(&error)) << error;
 }
 
+// The adaptive walker asks for approach steps of at most 0.40 m (the library 0.45 m): 0.55 m
+// before a near edge leaves 0.49 m to the last foot, which the library asks as one step (0.04 m
+// over its l_max, against 0.065 m under l_min for two) and the preset as two of 0.245 m (0.09 m
+// over its l_max for one).
+TEST(WalkerPresets, TheAdaptiveWalkerAsksShorterApproachSteps) {
+  const WalkerParams a = PresetWalkerParams(WalkerPreset::kAdaptive);
+  const WalkerParams c = PresetWalkerParams(WalkerPreset::kChapter);
+  EXPECT_EQ(a.planner.l_max, 0.40);
+  EXPECT_EQ(c.planner.l_max, StepPlannerParams().l_max);
+  EXPECT_EQ(StepPlannerParams().l_max, 0.45);
+  StepPlannerParams library = a.planner;
+  library.l_max = StepPlannerParams().l_max;
+  const StepPlan one = PlanStep(library, 0.55, 0.2);
+  EXPECT_EQ(one.approach_steps, 1);
+  EXPECT_NEAR(one.step_length, 0.49, 1e-12);
+  const StepPlan two = PlanStep(a.planner, 0.55, 0.2);
+  EXPECT_EQ(two.approach_steps, 2);
+  EXPECT_NEAR(two.step_length, 0.245, 1e-12);
+  // Within [l_min, 0.40] both ask the same single step.
+  EXPECT_EQ(PlanStep(a.planner, 0.44, 0.2).approach_steps, 1);
+  EXPECT_NEAR(PlanStep(a.planner, 0.44, 0.2).step_length, 0.38, 1e-12);
+  EXPECT_NEAR(PlanStep(library, 0.44, 0.2).step_length, 0.38, 1e-12);
+}
+
 TEST(FootLift, TheClearanceGrowsWithTheObstacleOnlyWithAHeightGain) {
   FootLiftParams p;
   p.clearance = 0.04;
