@@ -147,6 +147,16 @@ struct WalkerParams {
   bool IsValid(std::string* error) const;
 };
 
+// The ranges of the walker's rule_gait_choice_* numbers, one table for WalkerParams::IsValid and
+// the scenario keys of the same names (the unit follows the bounds in the message).
+struct WalkerRange {
+  const char* key;
+  double WalkerParams::*field;
+  double lo, hi;
+  const char* unit;
+};
+const std::vector<WalkerRange>& RuleGaitChoiceRanges();
+
 // One step as the walker saw it, at the touchdown that ended it.
 struct WalkerStep {
   StepRecord step;              // gait meter's record (index, leg, t, L_step, t_step, V_M)

@@ -1,12 +1,24 @@
 // WalkerParams::IsValid (declared in fuzzy_cmac_walker.h): the range of every walker setting, and
 // the checks of the mechanisms the walker holds.
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include "rabbit/control/fuzzy_cmac_walker.h"
 
 namespace rabbit {
+
+const std::vector<WalkerRange>& RuleGaitChoiceRanges() {
+  using P = WalkerParams;
+  static const std::vector<WalkerRange> ranges = {
+      {"rule_gait_choice_mixed_below", &P::rule_gait_choice_mixed_below, 0.0, 3.0, " m/s"},
+      {"rule_gait_choice_mixed_point", &P::rule_gait_choice_mixed_point, 0.0, 1.0, ""},
+      {"rule_gait_choice_hold_rate", &P::rule_gait_choice_hold_rate, 0.0, 1.0, " m/s"},
+  };
+  return ranges;
+}
 
 bool WalkerParams::IsValid(std::string* error) const {
   const std::pair<const char*, double> values[] = {{"hip_kp", hip_kp},
@@ -61,17 +73,14 @@ bool WalkerParams::IsValid(std::string* error) const {
     *error = "d_obs_max must be > 0";
     return false;
   }
-  if (!(rule_gait_choice_mixed_below >= 0.0 && rule_gait_choice_mixed_below <= 3.0)) {
-    *error = "rule_gait_choice_mixed_below must be in [0, 3] m/s";
-    return false;
-  }
-  if (!(rule_gait_choice_mixed_point >= 0.0 && rule_gait_choice_mixed_point <= 1.0)) {
-    *error = "rule_gait_choice_mixed_point must be in [0, 1]";
-    return false;
-  }
-  if (!(rule_gait_choice_hold_rate >= 0.0 && rule_gait_choice_hold_rate <= 1.0)) {
-    *error = "rule_gait_choice_hold_rate must be in [0, 1] m/s";
-    return false;
+  for (const WalkerRange& r : RuleGaitChoiceRanges()) {
+    const double value = this->*r.field;
+    if (!(value >= r.lo && value <= r.hi)) {
+      char text[160];
+      std::snprintf(text, sizeof text, "%s must be in [%g, %g]%s", r.key, r.lo, r.hi, r.unit);
+      *error = text;
+      return false;
+    }
   }
   if (!(std::isfinite(fis_v_lead) && fis_v_lead >= 0.0 && fis_v_lead <= 2.0)) {
     *error = "fis_v_lead must be in [0, 2]";

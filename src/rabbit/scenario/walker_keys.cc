@@ -289,20 +289,14 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   w.d_obs_max = t->Double("d_obs_max", w.d_obs_max);
   w.thigh_frame = t->Bool("thigh_frame", w.thigh_frame);
   w.rule_gait_choice = t->Bool("rule_gait_choice", w.rule_gait_choice);
-  w.rule_gait_choice_mixed_below =
-      t->Double("rule_gait_choice_mixed_below", w.rule_gait_choice_mixed_below);
-  if (!(w.rule_gait_choice_mixed_below >= 0.0 && w.rule_gait_choice_mixed_below <= 3.0)) {
-    t->Fail("rule_gait_choice_mixed_below", "must be in [0, 3] m/s");
-  }
-  w.rule_gait_choice_mixed_point =
-      t->Double("rule_gait_choice_mixed_point", w.rule_gait_choice_mixed_point);
-  if (!(w.rule_gait_choice_mixed_point >= 0.0 && w.rule_gait_choice_mixed_point <= 1.0)) {
-    t->Fail("rule_gait_choice_mixed_point", "must be in [0, 1]");
-  }
-  w.rule_gait_choice_hold_rate =
-      t->Double("rule_gait_choice_hold_rate", w.rule_gait_choice_hold_rate);
-  if (!(w.rule_gait_choice_hold_rate >= 0.0 && w.rule_gait_choice_hold_rate <= 1.0)) {
-    t->Fail("rule_gait_choice_hold_rate", "must be in [0, 1] m/s");
+  for (const WalkerRange& range : RuleGaitChoiceRanges()) {
+    double& value = w.*range.field;
+    value = t->Double(range.key, value);
+    if (!(value >= range.lo && value <= range.hi)) {
+      char text[120];
+      std::snprintf(text, sizeof text, "must be in [%g, %g]%s", range.lo, range.hi, range.unit);
+      t->Fail(range.key, text);
+    }
   }
   w.lift.clearance = t->Double("lift_clearance", w.lift.clearance);
   w.lift.height_gain = t->Double("lift_height_gain", w.lift.height_gain);
