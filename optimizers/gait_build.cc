@@ -289,6 +289,7 @@ std::string SimulatorSettingsText() {
 GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
   const fs::path out(options.out);
+  const bool out_existed = fs::exists(fs::symlink_status(out));
   auto log = [&](const std::string& line) {
     if (options.log && Ranks::root()) options.log(line);
   };
@@ -437,8 +438,10 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
     });
     if (speed_gaits < 2) {  // the fuzzy system blends at least 2 speed gaits
       fs::remove_all(staging);
-      result.check_failures.push_back(
-          "fewer than 2 speed gaits met their criteria: nothing written");
+      // Nothing is written: a folder the build made for its staging goes too.
+      std::error_code ec;
+      if (!out_existed) fs::remove(out, ec);
+      result.too_few_speed_gaits = true;
       return;
     }
     // The index as AddGaitToDatabase keeps it: the speed gaits first, by target velocity, then
@@ -506,7 +509,8 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
     Commit(out, old_files);
     TestKillPoint("gaits-build-committed");
   });
-  code = result.missed.empty() && result.check_failures.empty() ? 0 : 1;
+  code =
+      result.missed.empty() && result.check_failures.empty() && !result.too_few_speed_gaits ? 0 : 1;
   result.code = std::stoi(Ranks::Broadcast(std::to_string(code)));
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -40,6 +40,8 @@ struct GaitBuildOptions {
 
 struct GaitBuildResult {
   std::vector<std::string> built, kept, missed, check_failures;
+  // Fewer than 2 speed gaits met their criteria: nothing was written.
+  bool too_few_speed_gaits = false;
   long walks = 0;  // simulations of the synthesis, over all ranks
   double synthesis_seconds = 0.0;
   double wall_seconds = 0.0;

@@ -149,7 +149,10 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
     if (!Ranks::root()) return;
     lock = OutputLock(dir, "--out");
     const bool has_log = fs::exists(dir / "evaluations.csv");
-    if (fs::exists(out) && !fs::is_directory(out)) {
+    if (fs::is_symlink(fs::symlink_status(out))) {
+      problem = out.string() + " is a symbolic link, not a tuning job's folder: give the folder " +
+                "it points to, or another path";
+    } else if (fs::exists(out) && !fs::is_directory(out)) {
       problem = out.string() + " exists and is not a folder";
     } else if (fs::exists(dir) && !fs::is_empty(dir) && !fs::exists(dir / kMarker) &&
                !(options.shard.active() == false && fs::exists(dir / "shards"))) {

@@ -112,6 +112,14 @@ class RefusalTest : public FileSafetyTest {
   using FileSafetyTest::SmallSuite;
   using FileSafetyTest::TuneJob;
   using FileSafetyTest::Write;
+  // The small suite's report, written by rabbit run at `name`.
+  void SmallReport(const std::string& name) {
+    SmallSuite();
+    ASSERT_EQ(RunCli("run " + (dir_ / "small.toml").string() + " --no-html -q --out " +
+                     (dir_ / name).string())
+                  .code,
+              0);
+  }
 };
 
 // One class of refused output: the command (with {d} for the scratch folder), the exit code, a
@@ -178,6 +186,34 @@ TEST_F(RefusalTest, EveryWriterRefusesWhatItDidNotMake) {
        2,
        "not a report of rabbit run",
        {"{d}/X"}},
+      // A report rabbit wrote, with a file a user added to it: not rabbit's to delete.
+      {"run over its own report holding a user's file",
+       [](RefusalTest* t) {
+         t->SmallReport("X");
+         t->Write("X/walk/notes.txt", "mine");
+       },
+       "run {d}/small.toml --no-html -q --out {d}/X",
+       2,
+       "holds walk/notes.txt, which rabbit did not write",
+       {"{d}/X"}},
+      {"report of its own report holding a user's file",
+       [](RefusalTest* t) {
+         t->SmallReport("X");
+         t->Write("X/notes.txt", "mine");
+       },
+       "report -q {d}/X",
+       2,
+       "holds notes.txt, which rabbit did not write",
+       {"{d}/X"}},
+      {"run below a user's file",
+       [](RefusalTest* t) {
+         t->SmallSuite();
+         t->Write("file.txt", "mine");
+       },
+       "run {d}/small.toml --no-html -q --out {d}/file.txt/X",
+       2,
+       "file.txt is a file, not a folder",
+       {"{d}/file.txt"}},
       {"gaits synthesize named like the index",
        [](RefusalTest* t) { t->SmallDatabase("db"); },
        "gaits synthesize --vm 0.5 --name index --dir {d}/db -q",
@@ -314,6 +350,47 @@ TEST_F(RefusalTest, EveryWriterRefusesWhatItDidNotMake) {
   }
 }
 
+// A symbolic link at a folder output, dangling or pointing to a folder, is refused before any
+// work: replacing the folder would replace the user's link (and, before, left it renamed
+// beside as X.partial).
+TEST_F(FileSafetyTest, ASymbolicLinkAtAFolderOutputIsRefused) {
+  SmallSuite();
+  TuneJob();
+  Write("targets.toml", "[[gait]]\nv_m = 0.5\n[[gait]]\nv_m = 0.6\n");
+  Write("elsewhere/notes.txt", "mine");
+  const std::vector<std::string> commands = {"run {d}/small.toml --no-html -q --out {d}/link",
+                                             "tune {d}/job.toml -q --out {d}/link",
+                                             "gaits build {d}/targets.toml -q --out {d}/link"};
+  for (const char* target : {"missing", "elsewhere"}) {
+    for (const std::string& command : commands) {
+      SCOPED_TRACE(command + " -> " + target);
+      fs::remove(dir_ / "link");
+      fs::create_symlink(dir_ / target, dir_ / "link");
+      const auto before = Snapshot(dir_ / "elsewhere");
+      const CliRun run = RunCli(Expand(command, dir_));
+      EXPECT_EQ(run.code, 2);
+      EXPECT_NE(run.output.find("is a symbolic link"), std::string::npos) << run.output;
+      EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir_ / "link")));
+      EXPECT_EQ(fs::read_symlink(dir_ / "link"), dir_ / target);
+      EXPECT_EQ(Snapshot(dir_ / "elsewhere"), before);
+      EXPECT_FALSE(fs::exists(fs::symlink_status(dir_ / "link.partial")));
+      EXPECT_FALSE(fs::exists(dir_ / "missing"));
+    }
+  }
+}
+
+// A build in which too few gaits meet their criteria writes nothing, not even its folder.
+TEST_F(FileSafetyTest, AFailedGaitsBuildLeavesNoFolder) {
+  Write("targets.toml", "[[gait]]\nv_m = 0.45\nbudget = 3\n[[gait]]\nv_m = 0.6\nbudget = 3\n");
+  const CliRun run = RunCli(Expand("gaits build {d}/targets.toml -q -j2 --out {d}/db", dir_));
+  EXPECT_EQ(run.code, 1);
+  EXPECT_NE(run.output.find("fewer than 2 speed gaits met their criteria (the fuzzy system "
+                            "blends at least 2): nothing written to"),
+            std::string::npos)
+      << run.output;
+  EXPECT_FALSE(fs::exists(dir_ / "db"));
+}
+
 TEST_F(FileSafetyTest, DashIsStandardOutputForSingleFileOutputs) {
   const CliRun sim =
       RunCli("simulate " + kRoot + "/scenarios/drop_2cm.toml --out -", "", " 2>/dev/null");
@@ -333,9 +410,20 @@ TEST_F(FileSafetyTest, TrainReplacesOnlyItsOwnNetworksFolder) {
   ASSERT_EQ(RunCli(train).code, 0);
   EXPECT_TRUE(fs::exists(nets / ".rabbit-networks"));
   EXPECT_TRUE(fs::exists(nets / "vm_0.40_qd_i2.csv"));
+  // A file an earlier train wrote (listed in the folder's inventory) goes with the folder.
   std::ofstream(nets / "stale.csv") << "left by an earlier train\n";
+  std::ofstream(nets / ".rabbit-inventory", std::ios::app) << "stale.csv\n";
   ASSERT_EQ(RunCli(train).code, 0);  // its own: replaced whole
   EXPECT_FALSE(fs::exists(nets / "stale.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "nets.staging"));
+  // A file a user put there (not in the inventory) is not rabbit's to delete: refused, kept.
+  std::ofstream(nets / "notes.txt") << "mine\n";
+  const auto before = Snapshot(nets);
+  const CliRun refused = RunCli(train);
+  EXPECT_EQ(refused.code, 2);
+  EXPECT_NE(refused.output.find("holds notes.txt, which rabbit did not write"), std::string::npos)
+      << refused.output;
+  EXPECT_EQ(Snapshot(nets), before);
   EXPECT_FALSE(fs::exists(dir_ / "nets.staging"));
 }
 

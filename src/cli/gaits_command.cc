@@ -79,6 +79,13 @@ int RunBuild(const BuildArgs& a) {
   }
   // One build of a database at a time (rank 0 holds the lock; every rank agrees on whether it got
   // it, so none is left waiting).
+  // The path itself is the database's root: not a symbolic link to one (nor a dangling one).
+  CheckOutputParents("--out", a.out);
+  if (std::filesystem::is_symlink(std::filesystem::symlink_status(a.out))) {
+    throw InputError("--out", 0, a.out,
+                     "is a symbolic link, not a gait database: give the folder it points to, or "
+                     "another path");
+  }
   OutputLock lock;
   RunAgreed([&] {
     if (Ranks::root()) lock = OutputLock(a.out, "--out");
@@ -102,13 +109,19 @@ int RunBuild(const BuildArgs& a) {
   for (const std::string& run : r.check_failures) {
     std::fprintf(stderr, "rabbit gaits build: check walk %s failed\n", run.c_str());
   }
+  if (r.too_few_speed_gaits) {
+    std::fprintf(stderr,
+                 "rabbit gaits build: fewer than 2 speed gaits met their criteria (the fuzzy "
+                 "system blends at least 2): nothing written to %s\n",
+                 a.out.c_str());
+  }
   if (!a.quiet) {
     std::printf(
         "gaits build: %zu built, %zu kept, %zu missed; %ld walks in %.1f s (%.1f walks/s); "
-        "%.1f s wall; wrote %s\n",
+        "%.1f s wall; %s %s\n",
         r.built.size(), r.kept.size(), r.missed.size(), r.walks, r.synthesis_seconds,
         static_cast<double>(r.walks) / std::max(r.synthesis_seconds, 1e-9), r.wall_seconds,
-        a.out.c_str());
+        r.too_few_speed_gaits ? "nothing written to" : "wrote", a.out.c_str());
   }
   return r.exit_code();
 }

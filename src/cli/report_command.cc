@@ -43,6 +43,8 @@ int Report(const ReportArgs& args) {
                      std::string("is not a report of rabbit run or rabbit tune (no ") +
                          kReportMarker + ", " + kTuneMarker + " or shards/): nothing written");
   }
+  // A file a user added to the report (or edited) stops a rewrite of it.
+  CheckInventory("dir", args.dir);
   // What a killed merge left beside the folder (its runs are still in the shards, or already in
   // the report): removed.
   if (HasShards(args.dir) || HasMarker(MergeStagingFolder(args.dir), {kReportMarker})) {
@@ -83,6 +85,7 @@ int Report(const ReportArgs& args) {
     return 0;
   }
   const std::string page = WriteSuiteReport(args.dir, args.options, &warnings);
+  WriteInventory(args.dir);  // the rewritten pages are rabbit's too
   for (const std::string& w : warnings) std::cerr << "rabbit report: warning: " << w << "\n";
   if (!args.quiet) std::printf("wrote %s\n", page.c_str());
   return 0;

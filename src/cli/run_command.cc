@@ -281,9 +281,22 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& plan,
 
 // Throws InputError unless rabbit run may replace the report folder `out`.
 void CheckReportOutput(const fs::path& out) {
-  if (!fs::exists(out)) return;
-  if (fs::is_directory(out) && (fs::is_empty(out) || fs::exists(out / kReportMarker))) return;
-  if (fs::is_directory(out) && fs::is_directory(out / kShardsFolder)) {
+  // The path itself, not what a symbolic link there points to: the swap at the end would replace
+  // the link, which rabbit did not make.
+  CheckOutputParents("--out", out);
+  const fs::file_status status = fs::symlink_status(out);
+  if (!fs::exists(status)) return;
+  if (fs::is_symlink(status)) {
+    throw InputError("--out", 0, out.string(),
+                     "is a symbolic link, not a report of rabbit run: refusing to replace it; give "
+                     "the folder it points to, or another path");
+  }
+  if (fs::is_directory(status) && fs::is_empty(out)) return;
+  if (fs::is_directory(status) && fs::exists(out / kReportMarker)) {
+    CheckInventory("--out", out);  // a file added to the report is not rabbit's to delete
+    return;
+  }
+  if (fs::is_directory(status) && fs::is_directory(out / kShardsFolder)) {
     throw InputError("--out", 0, out.string(),
                      "holds the shards of a sharded run: merge them with rabbit report " +
                          out.string() + ", or remove " + (out / kShardsFolder).string());
@@ -528,6 +541,7 @@ int RunRun(RunArgs args) {
         if (entry.is_directory()) fs::remove(entry.path() / kRunMarker);
       }
       fs::remove(written / kStagingMarker);
+      WriteInventory(written);
     }
   });
   if (Ranks::root() && !args.quiet) std::printf("%s\n", VerdictLine(tally).c_str());

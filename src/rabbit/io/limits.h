@@ -36,6 +36,9 @@ constexpr FileLimits kCsvTableLimits = {"CSV files", 768 * kMiB, 2000000, 1 * kM
 // What rabbit writes for itself and reads back: the markers of its folders (report staging
 // folders, tuning jobs, shards; a staging marker lists every input file with its hash).
 constexpr FileLimits kMarkerFileLimits = {"marker files", 1 * kMiB, 20000, 64 * kKiB};
+// The inventory of a finished output folder (one line per file rabbit wrote in it: a report of a
+// suite of 20,000 scenarios holds about 150,000).
+constexpr FileLimits kInventoryFileLimits = {"inventory files", 64 * kMiB, 2000000, 8 * kKiB};
 // A gait database's manifest.csv (one row per file of the database).
 constexpr FileLimits kManifestFileLimits = {"manifest files", 4 * kMiB, 20000, 64 * kKiB};
 // A gait database's walker.csv (one row per gait).

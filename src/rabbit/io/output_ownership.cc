@@ -9,11 +9,15 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <set>
+#include <sstream>
 #include <string>
 #include <system_error>
 
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/limits.h"
 #include "rabbit/io/test_hooks.h"
 
 namespace rabbit {
@@ -96,8 +100,24 @@ bool HasMarker(const fs::path& dir, const std::vector<std::string>& markers) {
   return false;
 }
 
+void CheckOutputParents(const std::string& flag, const fs::path& path) {
+  std::error_code ec;
+  fs::path normal = path.lexically_normal();
+  if (normal.filename().empty()) normal = normal.parent_path();  // "dir/" -> "dir"
+  for (fs::path up = normal.parent_path(); !up.empty() && up != up.root_path();
+       up = up.parent_path()) {
+    const fs::file_status status = fs::status(up, ec);  // a link to a folder is a folder here
+    if (!fs::exists(status)) continue;
+    if (fs::is_directory(status)) return;
+    throw InputError(
+        flag, 0, path.string(),
+        "cannot be written: " + up.string() + " is " + Kind(status.type()) + ", not a folder");
+  }
+}
+
 void CheckOwnedFolder(const std::string& flag, const fs::path& path,
                       const std::vector<std::string>& markers, const std::string& what) {
+  CheckOutputParents(flag, path);
   std::error_code ec;
   const fs::file_status status = fs::symlink_status(path, ec);
   if (!fs::exists(status)) return;
@@ -105,13 +125,18 @@ void CheckOwnedFolder(const std::string& flag, const fs::path& path,
     throw InputError(flag, 0, path.string(),
                      "is " + Kind(status.type()) + ", not " + what + ": refusing to replace it");
   }
-  if (fs::is_empty(path, ec) || HasMarker(path, markers)) return;
+  if (fs::is_empty(path, ec)) return;
+  if (HasMarker(path, markers)) {
+    CheckInventory(flag, path);
+    return;
+  }
   throw InputError(flag, 0, path.string(),
                    "exists and is not " + what + " (no " + markers.front() +
                        "): refusing to touch it; give another path or remove it yourself");
 }
 
 void CheckGaitDatabaseOutput(const std::string& flag, const std::string& dir) {
+  CheckOutputParents(flag, dir);
   std::error_code ec;
   const fs::file_status status = fs::symlink_status(dir, ec);
   if (!fs::exists(status) || IsGaitDatabase(dir)) return;
@@ -140,6 +165,7 @@ void CheckOwnedFile(const std::string& flag, const fs::path& path, const std::st
 }
 
 void CheckReplaceableFile(const std::string& flag, const fs::path& path) {
+  CheckOutputParents(flag, path);
   std::error_code ec;
   const fs::file_status status = fs::symlink_status(path, ec);
   if (!fs::exists(status) || fs::is_regular_file(status)) return;
@@ -147,6 +173,50 @@ void CheckReplaceableFile(const std::string& flag, const fs::path& path) {
                    "is " + Kind(status.type()) +
                        ": rabbit only creates or replaces regular files (use - for standard output "
                        "where the output is one file)");
+}
+
+namespace {
+
+// Every file and symbolic link below `dir` (not the inventory), by its path relative to `dir`.
+std::set<std::string> FilesBelow(const fs::path& dir) {
+  std::set<std::string> files;
+  for (fs::recursive_directory_iterator it(dir), end; it != end; ++it) {
+    if (fs::is_directory(it->symlink_status())) continue;
+    const std::string rel = it->path().lexically_relative(dir).generic_string();
+    if (rel != kInventory) files.insert(rel);
+  }
+  return files;
+}
+
+}  // namespace
+
+void WriteInventory(const fs::path& dir) {
+  const std::set<std::string> files = FilesBelow(dir);
+  WriteFileAtomically((dir / kInventory).string(), [&files](std::ostream& out) {
+    out << "rabbit-inventory/1\n";
+    for (const std::string& rel : files) out << rel << '\n';
+  });
+}
+
+void CheckInventory(const std::string& flag, const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_regular_file(fs::symlink_status(dir / kInventory, ec))) return;
+  const std::string text = ReadBoundedFile((dir / kInventory).string(), kInventoryFileLimits);
+  std::set<std::string> listed;
+  std::istringstream in(text);
+  std::string line;
+  std::getline(in, line);  // the format line
+  while (std::getline(in, line)) listed.insert(line);
+  for (const std::string& rel : FilesBelow(dir)) {
+    // The shards of a sharded run written into an earlier report's folder: rabbit's, each under
+    // its own marker (rabbit report merges them).
+    if (rel.rfind("shards/", 0) == 0 || listed.count(rel) != 0) continue;
+    throw InputError(flag, 0, dir.string(),
+                     "holds " + rel +
+                         ", which rabbit did not write: rabbit replaces or rewrites this whole "
+                         "folder, so move the file out of it first (or remove the folder "
+                         "yourself)");
+  }
 }
 
 void RemoveOwnedFolder(const fs::path& dir) {
@@ -200,6 +270,7 @@ void WriteMarkedFolder(const fs::path& staging, const fs::path& out, const std::
   TestKillPoint((phase + "-staging").c_str());
   write();
   TestKillPoint((phase + "-written").c_str());
+  WriteInventory(staging);
   ReplaceFolder(staging, out);
   TestKillPoint((phase + "-replaced").c_str());
 }
@@ -212,6 +283,7 @@ fs::path OutputLock::LockPath(const fs::path& output) {
 
 OutputLock::OutputLock(const fs::path& output, const std::string& flag) {
   const fs::path path = LockPath(output);
+  CheckOutputParents(flag, output);
   if (!path.parent_path().empty()) fs::create_directories(path.parent_path());
   CheckReplaceableFile(flag, path);
   for (int attempt = 0; attempt < 100; ++attempt) {

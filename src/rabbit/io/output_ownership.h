@@ -16,6 +16,7 @@ namespace rabbit {
 constexpr const char* kNetworksMarker = ".rabbit-networks";       // rabbit train --out
 constexpr const char* kGaitReportMarker = ".rabbit-gait-report";  // rabbit gaits report --out
 constexpr const char* kTuneMarker = ".rabbit-tune";               // a tuning job's folder
+constexpr const char* kInventory = ".rabbit-inventory";           // every file of a finished folder
 constexpr const char* kGaitManifest = "manifest.csv";
 constexpr const char* kGaitManifestFormat = "# format = rabbit-gait-manifest/1";
 
@@ -50,6 +51,21 @@ void CheckOwnedFile(const std::string& flag, const std::filesystem::path& path,
 // Throws InputError unless `path` is missing or a regular file (a single output file: a device,
 // FIFO, socket, folder or symbolic link there is refused).
 void CheckReplaceableFile(const std::string& flag, const std::filesystem::path& path);
+
+// Throws InputError unless every existing folder above `path` is a folder (or a link to one):
+// nothing can be written below a file (`--out notes.txt/report`).
+void CheckOutputParents(const std::string& flag, const std::filesystem::path& path);
+
+// The inventory of a finished output folder: the path of every file (and symbolic link) below
+// `dir`, written as `dir/.rabbit-inventory` once rabbit has written the folder, and again after
+// rabbit report rewrites its pages in place.
+void WriteInventory(const std::filesystem::path& dir);
+
+// Throws InputError (naming `flag`) when the folder `dir`, which rabbit is about to replace or
+// rewrite, holds a file its inventory does not list (one a user added: not rabbit's to delete).
+// The shards of a sharded run below it are rabbit's. No inventory (a folder made before
+// inventories): no check.
+void CheckInventory(const std::string& flag, const std::filesystem::path& dir);
 
 // Removes a folder rabbit made: every entry whose name does not start with ".rabbit-" first, then
 // the markers, then the folder; so a kill part-way leaves a folder still recognised by its marker.

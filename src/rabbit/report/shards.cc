@@ -443,6 +443,7 @@ MergedShards MergeShards(const std::string& dir_text,
   // In DIR's place in one step; what is left of DIR (shards/ with their markers and summaries, an
   // earlier report) goes, its report marker last.
   ReplaceFolder(staging, dir);
+  WriteInventory(dir);
   TestKillPoint("report-merge-replaced");
   merged.suite = first.suite;
   merged.count = count;
