@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
@@ -26,10 +27,20 @@ bool NetworkTrainingOptions::IsValid(std::string* error) const {
     *error = "method must be ceres or lms";
     return false;
   }
-  if (!(beta > 0.0 && beta <= 1.0) || epochs < 1 || epochs > 1000000 ||
-      !(smoothness >= 0.0 && smoothness <= 1e6) || !(margin_deg >= 0.0 && margin_deg <= 90.0)) {
-    *error = "need 0 < beta <= 1, 1 <= epochs <= 1e6, 0 <= smoothness <= 1e6, 0 <= margin <= 90";
+  // One message per setting, naming it and the value given.
+  auto bad = [error](const std::string& name, const std::string& range, double value) {
+    char text[160];
+    std::snprintf(text, sizeof text, "%s must be %s, got %g", name.c_str(), range.c_str(), value);
+    *error = text;
     return false;
+  };
+  if (!(beta > 0.0 && beta <= 1.0)) return bad("beta", "in (0, 1]", beta);
+  if (epochs < 1 || epochs > 1000000) return bad("epochs", "in [1, 1e6]", epochs);
+  if (!(smoothness >= 0.0 && smoothness <= 1e6)) {
+    return bad("smoothness", "in [0, 1e6]", smoothness);
+  }
+  if (!(margin_deg >= 0.0 && margin_deg <= 90.0)) {
+    return bad("margin_deg", "in [0, 90] deg", margin_deg);
   }
   return true;
 }

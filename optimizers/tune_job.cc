@@ -88,10 +88,11 @@ ParamOverlay TuneJob::Overlay(const std::vector<double>& x) const {
         if (v.path == path) {
           v.value = x[i];
           v.line = parameters[i].line;
+          v.file = file;
           replaced = true;
         }
       }
-      if (!replaced) overlay.values.push_back({path, x[i], parameters[i].line});
+      if (!replaced) overlay.values.push_back({path, x[i], parameters[i].line, file});
     }
   }
   return overlay;

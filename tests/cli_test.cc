@@ -263,3 +263,63 @@ TEST_F(CliTest, LibraryGaitsLeaveTheGaitPatternTheNetworksAndTheWalkerAsTheyAre)
     EXPECT_EQ(ReadText(dir_ / "a" / file), ReadText(dir_ / "b" / file)) << file;
   }
 }
+
+// Usage mistakes get a message that names what was wrong: an empty option value (`--out ''`,
+// which would otherwise fall back to a default folder), a misspelt command, a misspelt key or
+// table beside the required one it hides, a bad value from a --params overlay (blamed on the
+// overlay's file and line), and a setting out of range (named with the value given).
+TEST_F(CliTest, MistakesAreNamed) {
+  const std::string scenario = Scenario("drop_2cm.toml");
+  for (const std::string& args : std::vector<std::string>{
+           "run --out ''", "run ''", "simulate " + scenario + " --out ''", "train --gaits ''",
+           "gaits build t.toml --out ''", "gaits report --out ''", "--data '' run"}) {
+    SCOPED_TRACE(args);
+    const CliRun run = RunCli(args);
+    EXPECT_EQ(run.code, 2);
+    EXPECT_NE(run.output.find("expected a value, got an empty text"), std::string::npos)
+        << run.output;
+  }
+  const CliRun command = RunCli("simulat " + scenario);
+  EXPECT_EQ(command.code, 2);
+  EXPECT_NE(command.output.find("'simulat' is not a command of rabbit (its commands: simulate,"),
+            std::string::npos)
+      << command.output;
+  const CliRun sub = RunCli("gaits lst");
+  EXPECT_EQ(sub.code, 2);
+  EXPECT_NE(sub.output.find("'lst' is not a command of rabbit gaits"), std::string::npos)
+      << sub.output;
+
+  const std::string rest = "[controller]\ntype = \"passive\"\n[initial]\ny = 1\n";
+  const CliRun table = RunCli("simulate " + Write("t.toml", "[simulaton]\nduration = 1\n" + rest));
+  EXPECT_EQ(table.code, 2);
+  EXPECT_NE(table.output.find("missing required key 'duration' (no table 'simulation' is "
+                              "written: is 'simulaton' at line 1 a misspelling of it?)"),
+            std::string::npos)
+      << table.output;
+  const CliRun key = RunCli("simulate " + Write("k.toml", "[simulation]\nduratoin = 1\n" + rest));
+  EXPECT_EQ(key.code, 2);
+  EXPECT_NE(key.output.find("(is 'simulation.duratoin' at line 2 a misspelling of it?)"),
+            std::string::npos)
+      << key.output;
+  // Far from any key asked for: no guess.
+  const CliRun far = RunCli("simulate " + Write("f.toml", "[simulation]\nlength = 1\n" + rest));
+  EXPECT_EQ(far.code, 2);
+  EXPECT_EQ(far.output.find("misspelling"), std::string::npos) << far.output;
+
+  const std::string overlay = Write("p.toml", "# mine\n[params]\n\"simulation.duration\" = 1e9\n");
+  const CliRun blamed = RunCli("simulate " + scenario + " --params " + overlay);
+  EXPECT_EQ(blamed.code, 2);
+  EXPECT_EQ(blamed.output.find("rabbit: error: " + overlay + ":3: 'simulation.duration': must be"),
+            0u)
+      << blamed.output;
+
+  const CliRun gains = RunCli("simulate " + Write("g.toml",
+                                                  "[simulation]\nduration = 1\n[controller]\n"
+                                                  "type = \"pragmatic\"\nhip_kp = -5\n"));
+  EXPECT_EQ(gains.code, 2);
+  EXPECT_NE(gains.output.find("hip_kp must be >= 0, got -5"), std::string::npos) << gains.output;
+  const CliRun beta = RunCli("train --method lms --beta 0 --out " + (dir_ / "nets").string());
+  EXPECT_EQ(beta.code, 2);
+  EXPECT_NE(beta.output.find("beta must be in (0, 1], got 0"), std::string::npos) << beta.output;
+  EXPECT_FALSE(fs::exists(dir_ / "nets"));
+}

@@ -175,7 +175,7 @@ TEST_F(ParamsTest, AnInvalidMembershipFunctionIsAnInputError) {
 
 TEST_F(ParamsTest, OverlayTomlReadsBackExactly) {
   ParamOverlay o;
-  o.values = {{"controller.k_p", 0.1 + 0.2, 0}, {"controller.sets.d_obs.Small.2", 1e-7, 0}};
+  o.values = {{"controller.k_p", 0.1 + 0.2, 0, ""}, {"controller.sets.d_obs.Small.2", 1e-7, 0, ""}};
   const ParamOverlay back = LoadParamOverlay(Write("best.toml", ParamOverlayToml(o, "a\nb")));
   ASSERT_EQ(back.values.size(), 2u);
   EXPECT_EQ(back.values[0].value, 0.1 + 0.2);

@@ -4,8 +4,23 @@
 #include <string>
 
 #include "cli/data_root.h"
+#include "cli/flag_checks.h"
 
 namespace rabbit::cli {
+namespace {
+
+// Every option that takes a value, of `app` and of its subcommands at any depth, refuses an empty
+// text (NonEmptyText): no option gives '' a meaning.
+void RefuseEmptyValues(CLI::App* app) {
+  for (CLI::Option* option : app->get_options()) {
+    if (option->get_type_size_max() > 0) option->check(NonEmptyText());
+  }
+  for (CLI::App* sub : app->get_subcommands([](CLI::App*) { return true; })) {
+    RefuseEmptyValues(sub);
+  }
+}
+
+}  // namespace
 
 std::string VersionText() {
   std::string text = std::string("rabbit ") + RABBIT_VERSION + "\n";
@@ -25,8 +40,11 @@ std::vector<Command> BuildApp(CLI::App* app) {
   AddDataOption(app);
   app->set_version_flag("--version", VersionText, "Print the version and the data root, and exit");
   app->require_subcommand(1);
-  return {RegisterSimulate(app), RegisterGaits(app),  RegisterTrain(app), RegisterFis(app),
-          RegisterRun(app),      RegisterReport(app), RegisterTune(app)};
+  std::vector<Command> commands = {RegisterSimulate(app), RegisterGaits(app), RegisterTrain(app),
+                                   RegisterFis(app),      RegisterRun(app),   RegisterReport(app),
+                                   RegisterTune(app)};
+  RefuseEmptyValues(app);
+  return commands;
 }
 
 }  // namespace rabbit::cli

@@ -47,6 +47,16 @@ inline CLI::Validator NumberIn(double lo, double hi, const std::string& unit = "
       kind + " in " + range);
 }
 
+// Any option's text: an empty one (`--out ''`, `--gaits ""`) is a usage error naming the option,
+// not a silent fall back to the option's default or to the working folder.
+inline CLI::Validator NonEmptyText() {
+  return CLI::Validator(
+      [](std::string& text) {
+        return text.empty() ? std::string("expected a value, got an empty text") : std::string();
+      },
+      "");
+}
+
 inline CLI::Validator IntegerIn(long lo, long hi, const std::string& unit = "") {
   return NumberIn(static_cast<double>(lo), static_cast<double>(hi), unit, true);
 }

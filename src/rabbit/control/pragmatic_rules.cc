@@ -1,6 +1,9 @@
 #include "rabbit/control/pragmatic_rules.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <string>
 #include <utility>
 #include <vector>
 
@@ -25,13 +28,22 @@ bool PragmaticParams::IsValid(std::string* error) const {
       return false;
     }
   }
-  if (pulse_start < 0.0 || pulse_duration < 0.0) {
-    *error = "pulse_start and pulse_duration must be >= 0";
-    return false;
-  }
-  if (hip_kp < 0 || hip_kd < 0 || trunk_kp < 0 || trunk_kd < 0 || knee_kp < 0 || knee_kd < 0) {
-    *error = "gains must be >= 0";
-    return false;
+  // Each setting by name, with the value given.
+  auto text = [](double v) {
+    char buffer[32];
+    std::snprintf(buffer, sizeof buffer, "%g", v);
+    return std::string(buffer);
+  };
+  const std::pair<const char*, double> nonnegative[] = {
+      {"pulse_start", pulse_start}, {"pulse_duration", pulse_duration},
+      {"hip_kp", hip_kp},           {"hip_kd", hip_kd},
+      {"trunk_kp", trunk_kp},       {"trunk_kd", trunk_kd},
+      {"knee_kp", knee_kp},         {"knee_kd", knee_kd}};
+  for (const auto& [name, value] : nonnegative) {
+    if (value < 0.0) {
+      *error = std::string(name) + " must be >= 0, got " + text(value);
+      return false;
+    }
   }
   if (!(qi2_dsw <= 0.0 && qi2_dsw > -M_PI / 2)) {
     *error = "qi2_dsw must be in (-90, 0] deg (knees flex to negative angles)";
@@ -45,8 +57,13 @@ bool PragmaticParams::IsValid(std::string* error) const {
     *error = "q0_d must be within 45 deg (the fall limit)";
     return false;
   }
-  if (pulse_start > 10.0 || pulse_duration > 10.0 || std::abs(pulse_torque) > 1e4) {
-    *error = "pulse beyond sensible bounds (start, duration <= 10 s, |torque| <= 1e4 N m)";
+  if (pulse_start > 10.0 || pulse_duration > 10.0) {
+    *error = std::string(pulse_start > 10.0 ? "pulse_start" : "pulse_duration") +
+             " must be <= 10 s, got " + text(std::max(pulse_start, pulse_duration));
+    return false;
+  }
+  if (std::abs(pulse_torque) > 1e4) {
+    *error = "|pulse_torque| must be <= 1e4 N m, got " + text(pulse_torque);
     return false;
   }
   return true;

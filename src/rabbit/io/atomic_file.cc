@@ -6,6 +6,7 @@
 
 #include <cctype>
 #include <cerrno>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <iostream>
@@ -85,10 +86,18 @@ void WriteFileAtomically(const std::string& path, const std::function<void(std::
   try {
     std::ofstream out(temp, std::ios::binary | std::ios::trunc);
     if (!out) throw std::runtime_error(path + ": cannot open for writing");
+    // The stream keeps no reason; the system call that failed left it in errno (no space left on
+    // the device, a quota).
+    auto failed = [&path] {
+      return std::runtime_error(path + ": write failed" +
+                                (errno != 0 ? std::string(": ") + std::strerror(errno) : ""));
+    };
+    errno = 0;
     write(out);
     out.flush();
-    if (!out) throw std::runtime_error(path + ": write failed");
-    out.close();
+    if (!out) throw failed();
+    out.close();  // writes what is left in the buffer
+    if (out.fail()) throw failed();
     // Checked again just before: what appeared at the path meanwhile is not replaced either.
     CheckReplaceableFile(path, target);
     fs::rename(temp, target, ec);

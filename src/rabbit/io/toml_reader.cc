@@ -1,9 +1,11 @@
 #include "rabbit/io/toml_reader.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <filesystem>
 #include <sstream>
+#include <vector>
 
 #include "rabbit/io/bounded_read.h"
 #include "rabbit/io/error.h"
@@ -33,7 +35,48 @@ std::string RecordedPath(const std::string& path) {
   return out;
 }
 
+// Whether `written` looks like a misspelling of `wanted`: another case, or at most one edit (two
+// for names of six characters or more), an edit being a character added, removed, replaced, or
+// two neighbours swapped (optimal string alignment distance).
+bool LooksLikeMisspelling(const std::string& written, const std::string& wanted) {
+  if (written == wanted) return false;
+  const size_t n = written.size(), m = wanted.size();
+  const size_t most = m >= 6 ? 2 : 1;
+  if ((n > m ? n - m : m - n) > most) return false;
+  auto lower = [](char c) {
+    return static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+  };
+  std::vector<std::vector<size_t>> d(n + 1, std::vector<size_t>(m + 1));
+  for (size_t i = 0; i <= n; ++i) d[i][0] = i;
+  for (size_t j = 0; j <= m; ++j) d[0][j] = j;
+  for (size_t i = 1; i <= n; ++i) {
+    for (size_t j = 1; j <= m; ++j) {
+      const size_t cost = lower(written[i - 1]) == lower(wanted[j - 1]) ? 0 : 1;
+      d[i][j] = std::min({d[i - 1][j] + 1, d[i][j - 1] + 1, d[i - 1][j - 1] + cost});
+      if (i > 1 && j > 1 && lower(written[i - 1]) == lower(wanted[j - 2]) &&
+          lower(written[i - 2]) == lower(wanted[j - 1])) {
+        d[i][j] = std::min(d[i][j], d[i - 2][j - 2] + 1);
+      }
+    }
+  }
+  return d[n][m] <= most;
+}
+
 }  // namespace
+
+std::string TomlReader::MisspellingOf(const std::string& key) const {
+  for (const toml::table* layer : layers_) {
+    for (const auto& [name, node] : *layer) {
+      const std::string written(name.str());
+      if (known_.count(written) == 0 && LooksLikeMisspelling(written, key)) {
+        const int line = LineOf(&node);
+        return "'" + PathOf(written) + "'" +
+               (line > 0 ? " at line " + std::to_string(line) : std::string());
+      }
+    }
+  }
+  return "";
+}
 
 TomlKeyRecording::TomlKeyRecording() : previous_(g_recording) { g_recording = this; }
 
@@ -72,10 +115,11 @@ TomlReader TomlReader::FromLayers(std::vector<std::shared_ptr<const toml::table>
   return TomlReader(std::move(owners), std::move(layers), std::move(file), std::move(prefix), line);
 }
 
-TomlReader TomlReader::WithPatches(
-    std::shared_ptr<const std::map<std::string, double>> patches) const {
+TomlReader TomlReader::WithPatches(std::shared_ptr<const std::map<std::string, double>> patches,
+                                   std::shared_ptr<const PatchBlame> blame) const {
   TomlReader copy = *this;
   copy.patches_ = std::move(patches);
+  copy.patch_blame_ = std::move(blame);
   copy.patches_used_ = std::make_shared<std::set<std::string>>();
   return copy;
 }
@@ -100,6 +144,7 @@ TomlReader TomlReader::Child(std::vector<const toml::table*> layers, std::string
   TomlReader child(owners_, std::move(layers), file_, std::move(prefix), line);
   child.patches_ = patches_;
   child.patches_used_ = patches_used_;
+  child.patch_blame_ = patch_blame_;
   child.observed_ = observed_;
   child.rel_ = std::move(rel);
   return child;
@@ -134,6 +179,10 @@ int TomlReader::LineOf(const toml::node* node) const {
 }
 
 void TomlReader::Fail(const std::string& key, const std::string& message) const {
+  if (!key.empty() && patch_blame_ != nullptr && patches_ != nullptr &&
+      patches_->count(rel_ + key) != 0) {
+    (*patch_blame_)(rel_ + key, message + " (" + PathOf(key) + " of " + file_ + ")");
+  }
   const toml::node* node = key.empty() ? nullptr : Find(key);
   throw InputError(file_, LineOf(node), key.empty() ? prefix_ : PathOf(key), message);
 }
@@ -188,7 +237,10 @@ double TomlReader::Double(const std::string& key, double default_value) {
 double TomlReader::RequiredDouble(const std::string& key) {
   if (!Has(key) && Patch(key) == nullptr) {
     Know(key);
-    Fail("", "missing required key '" + key + "'");
+    const std::string misspelt = MisspellingOf(key);
+    Fail("", "missing required key '" + key + "'" +
+                 (misspelt.empty() ? "" : " (is " + misspelt + " a misspelling of it?)") +
+                 missing_table_);
   }
   return Double(key, 0.0);
 }
@@ -331,7 +383,16 @@ TomlReader TomlReader::TableFromLayers(const std::string& key, size_t layers) {
     first = false;
     tables.push_back(table);
   }
-  return Child(std::move(tables), PathOf(key), line, rel_ + key + ".");
+  TomlReader child = Child(std::move(tables), PathOf(key), line, rel_ + key + ".");
+  if (child.layers_.empty()) {
+    // Absent: a required key asked of it names a table written under a misspelt name.
+    const std::string misspelt = MisspellingOf(key);
+    if (!misspelt.empty()) {
+      child.missing_table_ =
+          " (no table '" + PathOf(key) + "' is written: is " + misspelt + " a misspelling of it?)";
+    }
+  }
+  return child;
 }
 
 TomlReader TomlReader::WholeTable(const std::string& key) {

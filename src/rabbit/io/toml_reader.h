@@ -6,6 +6,7 @@
 
 #include <toml++/toml.h>
 
+#include <functional>
 #include <map>
 #include <memory>
 #include <set>
@@ -52,7 +53,12 @@ class TomlReader {
   // rows of DoubleRows "points.2.1"), whether the key is written or takes its default. Readers made
   // from this one (tables, arrays of tables) apply them too. Returns a copy carrying them, with a
   // fresh record of which were used (UnusedPatches).
-  TomlReader WithPatches(std::shared_ptr<const std::map<std::string, double>> patches) const;
+  // `blame`, when given, is called for an error in a patched setting (Fail with a patched key),
+  // with its path and the message, and throws there: an error of a value from an overlay names
+  // the overlay's file and line, not the scenario's.
+  using PatchBlame = std::function<void(const std::string& path, const std::string& message)>;
+  TomlReader WithPatches(std::shared_ptr<const std::map<std::string, double>> patches,
+                         std::shared_ptr<const PatchBlame> blame = nullptr) const;
   // The patches no read has used so far, in path order (a patch naming no numeric setting).
   std::vector<std::string> UnusedPatches() const;
 
@@ -111,6 +117,9 @@ class TomlReader {
   // Marks `key` of this table as known (Finish() accepts it) and records it (TomlKeyRecording).
   void Know(const std::string& key);
   int LineOf(const toml::node* node) const;
+  // A key of this table that nobody asked for and that looks like a misspelling of `key`, as
+  // "'path' at line N" for messages ("" when none).
+  std::string MisspellingOf(const std::string& key) const;
   std::string PathOf(const std::string& key) const;
 
   // A reader over `layers` below this one (key path `rel`), sharing its patches.
@@ -138,8 +147,12 @@ class TomlReader {
   std::set<std::string> known_;
   std::shared_ptr<const std::map<std::string, double>> patches_;
   std::shared_ptr<std::set<std::string>> patches_used_;
+  std::shared_ptr<const PatchBlame> patch_blame_;
   std::shared_ptr<std::map<std::string, double>> observed_;
   std::string rel_;  // this table's path below the reader the patches were attached to, "a.b."
+  // For an absent table whose name a written table seems to misspell: a note for its required
+  // keys' messages.
+  std::string missing_table_;
 };
 
 }  // namespace rabbit

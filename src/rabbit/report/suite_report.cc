@@ -106,7 +106,7 @@ bool SuiteReportOptions::IsValid(std::string* error) const {
                                     {"stick_window", stick_window},
                                     {"tracking_window", tracking_window}}) {
     if (!(value > 0.0) || !std::isfinite(value) || value > 1e6) {
-      return fail(std::string(name) + " must be a positive number of seconds");
+      return fail(std::string(name) + " must be in (0, 1e6] s");
     }
   }
   if (stick_window / stick_every > 1000.0) {

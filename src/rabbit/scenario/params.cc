@@ -34,7 +34,7 @@ void Flatten(const std::string& file, const toml::table& table, const std::strin
       if (!IsParamPath(leaf_path, &error)) {
         throw InputError(file, LineOf(leaf), "params." + leaf_path, error);
       }
-      out->values.push_back({leaf_path, *value, LineOf(leaf)});
+      out->values.push_back({leaf_path, *value, LineOf(leaf), file});
     };
     if (const toml::table* sub = node.as_table()) {
       Flatten(file, *sub, path, out);
@@ -69,10 +69,13 @@ std::shared_ptr<const std::map<std::string, double>> ParamOverlay::Patches() con
 
 void ParamOverlay::Fail(const std::string& path, const std::string& message) const {
   int line = 0;
+  std::string from = file.empty() ? "--params" : file;
   for (const ParamValue& v : values) {
-    if (v.path == path) line = v.line;
+    if (v.path != path) continue;
+    line = v.line;
+    if (!v.file.empty()) from = v.file;
   }
-  throw InputError(file.empty() ? "--params" : file, line, path, message);
+  throw InputError(from, line, path, message);
 }
 
 bool IsParamPath(const std::string& path, std::string* error) {

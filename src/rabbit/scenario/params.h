@@ -23,6 +23,9 @@ struct ParamValue {
   std::string path;  // key path in a scenario, array elements 1-based
   double value = 0.0;
   int line = 0;  // where the overlay file gave it (0: built in memory)
+  // The file that gave it, where overlays are merged (a tuning job's base, --params and tuned
+  // values); empty: the overlay's own file.
+  std::string file;
 };
 
 struct ParamOverlay {

@@ -342,7 +342,11 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name, const Pa
   }
   const std::string database_override = overlay != nullptr ? overlay->gait_database : "";
   if (overlay != nullptr && !overlay->empty()) {
-    TomlReader patched = root.WithPatches(overlay->Patches());
+    TomlReader patched = root.WithPatches(
+        overlay->Patches(), std::make_shared<const TomlReader::PatchBlame>(
+                                [overlay](const std::string& path, const std::string& message) {
+                                  overlay->Fail(path, message);
+                                }));
     ParamOverlay database_only;
     database_only.gait_database = database_override;
     Scenario s = ReadScenario(patched, default_name, &database_only);
