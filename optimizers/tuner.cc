@@ -147,12 +147,16 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   OutputLock lock;  // rank 0's, on the folder it writes, until the last file is written
   RunAgreed([&] {   // rank 0 alone looks at the folder: a throw there must stop every rank
     if (!Ranks::root()) return;
+    // Before the lock, which makes the folders above a shard's: not through a user's link.
+    if (fs::is_symlink(fs::symlink_status(out))) {
+      problem =
+          "is a symbolic link, not a tuning job's folder: give the folder it points to, or "
+          "another path";
+      return;
+    }
     lock = OutputLock(dir, "--out");
     const bool has_log = fs::exists(dir / "evaluations.csv");
-    if (fs::is_symlink(fs::symlink_status(out))) {
-      problem = out.string() + " is a symbolic link, not a tuning job's folder: give the folder " +
-                "it points to, or another path";
-    } else if (fs::exists(out) && !fs::is_directory(out)) {
+    if (fs::exists(out) && !fs::is_directory(out)) {
       problem = out.string() + " exists and is not a folder";
     } else if (fs::exists(dir) && !fs::is_empty(dir) && !fs::exists(dir / kMarker) &&
                !(options.shard.active() == false && fs::exists(dir / "shards"))) {

@@ -284,6 +284,10 @@ TEST_F(CliTest, MistakesAreNamed) {
   EXPECT_NE(command.output.find("'simulat' is not a command of rabbit (its commands: simulate,"),
             std::string::npos)
       << command.output;
+  // A word after an option the level does not take may be its value: no guess.
+  const CliRun value = RunCli("fis --vm 0.5");
+  EXPECT_EQ(value.code, 2);
+  EXPECT_EQ(value.output.find("is not a command"), std::string::npos) << value.output;
   const CliRun sub = RunCli("gaits lst");
   EXPECT_EQ(sub.code, 2);
   EXPECT_NE(sub.output.find("'lst' is not a command of rabbit gaits"), std::string::npos)
@@ -313,6 +317,15 @@ TEST_F(CliTest, MistakesAreNamed) {
             0u)
       << blamed.output;
 
+  // A table's check that names the setting first is blamed on the overlay too.
+  const std::string gain_overlay = Write("q.toml", "[params]\n\"controller.hip_kp\" = -5\n");
+  const CliRun table_blamed =
+      RunCli("simulate " + Scenario("walk_pragmatic_0.60.toml") + " --params " + gain_overlay);
+  EXPECT_EQ(table_blamed.code, 2);
+  EXPECT_EQ(table_blamed.output.find("rabbit: error: " + gain_overlay +
+                                     ":2: 'controller.hip_kp': hip_kp must be >= 0, got -5"),
+            0u)
+      << table_blamed.output;
   const CliRun gains = RunCli("simulate " + Write("g.toml",
                                                   "[simulation]\nduration = 1\n[controller]\n"
                                                   "type = \"pragmatic\"\nhip_kp = -5\n"));

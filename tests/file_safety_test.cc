@@ -194,7 +194,7 @@ TEST_F(RefusalTest, EveryWriterRefusesWhatItDidNotMake) {
        },
        "run {d}/small.toml --no-html -q --out {d}/X",
        2,
-       "holds walk/notes.txt, which rabbit did not write",
+       "holds walk/notes.txt, which is not one of the files rabbit wrote there",
        {"{d}/X"}},
       {"report of its own report holding a user's file",
        [](RefusalTest* t) {
@@ -203,7 +203,30 @@ TEST_F(RefusalTest, EveryWriterRefusesWhatItDidNotMake) {
        },
        "report -q {d}/X",
        2,
-       "holds notes.txt, which rabbit did not write",
+       "holds notes.txt, which is not one of the files rabbit wrote there",
+       {"{d}/X"}},
+      {"run over its own report holding a user's empty folder",
+       [](RefusalTest* t) {
+         t->SmallReport("X");
+         fs::create_directories(t->Dir() / "X" / "myplots");
+       },
+       "run {d}/small.toml --no-html -q --out {d}/X",
+       2,
+       "holds myplots/, which is not one of the files rabbit wrote there",
+       {"{d}/X"}},
+      // A shard written into an earlier report: checked against its own inventory.
+      {"run over a report whose shard holds a user's file",
+       [](RefusalTest* t) {
+         t->SmallReport("X");
+         ASSERT_EQ(RunCli("run " + (t->Dir() / "small.toml").string() +
+                          " --no-html -q --shard 1/1 --out " + (t->Dir() / "X").string())
+                       .code,
+                   0);
+         t->Write("X/shards/1-of-1/notes.txt", "mine");
+       },
+       "run {d}/small.toml --no-html -q --out {d}/X",
+       2,
+       "holds shards/1-of-1/notes.txt, which is not one of the files rabbit wrote there",
        {"{d}/X"}},
       {"run below a user's file",
        [](RefusalTest* t) {
@@ -379,6 +402,26 @@ TEST_F(FileSafetyTest, ASymbolicLinkAtAFolderOutputIsRefused) {
   }
 }
 
+// The report's own life is not refused: a run without pages, the pages added by rabbit report,
+// a shard run into it and merged, a run again.
+TEST_F(FileSafetyTest, AReportRewrittenByRabbitIsNotRefused) {
+  SmallSuite();
+  const std::string run = Expand("run {d}/small.toml -q --out {d}/X", dir_);
+  ASSERT_EQ(RunCli(run + " --no-html").code, 0);
+  ASSERT_EQ(
+      RunCli(Expand("report -q {d}/X --gnuplot /nonexistent/gnuplot", dir_), "", " 2>/dev/null")
+          .code,
+      0);
+  EXPECT_TRUE(fs::exists(dir_ / "X" / "index.html"));
+  ASSERT_EQ(RunCli(run + " --no-html --shard 1/1").code, 0);
+  ASSERT_EQ(
+      RunCli(Expand("report -q {d}/X --gnuplot /nonexistent/gnuplot", dir_), "", " 2>/dev/null")
+          .code,
+      0);
+  EXPECT_EQ(RunCli(run + " --no-html").code, 0);
+  EXPECT_TRUE(fs::exists(dir_ / "X" / ".rabbit-inventory"));
+}
+
 // A build in which too few gaits meet their criteria writes nothing, not even its folder.
 TEST_F(FileSafetyTest, AFailedGaitsBuildLeavesNoFolder) {
   Write("targets.toml", "[[gait]]\nv_m = 0.45\nbudget = 3\n[[gait]]\nv_m = 0.6\nbudget = 3\n");
@@ -421,7 +464,9 @@ TEST_F(FileSafetyTest, TrainReplacesOnlyItsOwnNetworksFolder) {
   const auto before = Snapshot(nets);
   const CliRun refused = RunCli(train);
   EXPECT_EQ(refused.code, 2);
-  EXPECT_NE(refused.output.find("holds notes.txt, which rabbit did not write"), std::string::npos)
+  EXPECT_NE(
+      refused.output.find("holds notes.txt, which is not one of the files rabbit wrote there"),
+      std::string::npos)
       << refused.output;
   EXPECT_EQ(Snapshot(nets), before);
   EXPECT_FALSE(fs::exists(dir_ / "nets.staging"));

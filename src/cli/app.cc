@@ -10,10 +10,13 @@ namespace rabbit::cli {
 namespace {
 
 // Every option that takes a value, of `app` and of its subcommands at any depth, refuses an empty
-// text (NonEmptyText): no option gives '' a meaning.
+// text (NonEmptyText): no option but --filter gives '' a meaning (an empty regex selects every
+// scenario, as no --filter does).
 void RefuseEmptyValues(CLI::App* app) {
   for (CLI::Option* option : app->get_options()) {
-    if (option->get_type_size_max() > 0) option->check(NonEmptyText());
+    if (option->get_type_size_max() > 0 && !option->check_lname("filter")) {
+      option->check(NonEmptyText());
+    }
   }
   for (CLI::App* sub : app->get_subcommands([](CLI::App*) { return true; })) {
     RefuseEmptyValues(sub);

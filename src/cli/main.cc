@@ -28,7 +28,9 @@ bool UnknownCommand(CLI::App* app, int argc, char** argv, std::string* word, std
       if (token.find('=') != std::string::npos) continue;
       const CLI::Option* option = level->get_option_no_throw(token);
       if (option == nullptr) option = app->get_option_no_throw(token);
-      if (option != nullptr && option->get_type_size_max() > 0) ++i;
+      // An option this level does not take: the word after it may be its value, not a command.
+      if (option == nullptr) return false;
+      if (option->get_type_size_max() > 0) ++i;
       continue;
     }
     const std::vector<CLI::App*> subs = level->get_subcommands([](CLI::App*) { return true; });

@@ -43,7 +43,7 @@ int Report(const ReportArgs& args) {
                      std::string("is not a report of rabbit run or rabbit tune (no ") +
                          kReportMarker + ", " + kTuneMarker + " or shards/): nothing written");
   }
-  // A file a user added to the report (or edited) stops a rewrite of it.
+  // A file a user added to the report stops a rewrite of it.
   CheckInventory("dir", args.dir);
   // What a killed merge left beside the folder (its runs are still in the shards, or already in
   // the report): removed.
@@ -84,8 +84,12 @@ int Report(const ReportArgs& args) {
     }
     return 0;
   }
+  // The inventory goes while the pages are rewritten (a kill meanwhile leaves a folder that is
+  // replaced as one made before inventories, not one that refuses its own new pages), and comes
+  // back listing them.
+  fs::remove(fs::path(args.dir) / kInventory);
   const std::string page = WriteSuiteReport(args.dir, args.options, &warnings);
-  WriteInventory(args.dir);  // the rewritten pages are rabbit's too
+  WriteInventory(args.dir);
   for (const std::string& w : warnings) std::cerr << "rabbit report: warning: " << w << "\n";
   if (!args.quiet) std::printf("wrote %s\n", page.c_str());
   return 0;

@@ -57,10 +57,12 @@ bool PragmaticParams::IsValid(std::string* error) const {
     *error = "q0_d must be within 45 deg (the fall limit)";
     return false;
   }
-  if (pulse_start > 10.0 || pulse_duration > 10.0) {
-    *error = std::string(pulse_start > 10.0 ? "pulse_start" : "pulse_duration") +
-             " must be <= 10 s, got " + text(std::max(pulse_start, pulse_duration));
-    return false;
+  for (const auto& [name, value] : {std::pair<const char*, double>{"pulse_start", pulse_start},
+                                    {"pulse_duration", pulse_duration}}) {
+    if (value > 10.0) {
+      *error = std::string(name) + " must be <= 10 s, got " + text(value);
+      return false;
+    }
   }
   if (std::abs(pulse_torque) > 1e4) {
     *error = "|pulse_torque| must be <= 1e4 N m, got " + text(pulse_torque);

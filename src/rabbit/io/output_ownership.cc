@@ -9,10 +9,12 @@
 #include <cerrno>
 #include <cstring>
 #include <fstream>
+#include <map>
 #include <set>
 #include <sstream>
 #include <string>
 #include <system_error>
+#include <utility>
 
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/bounded_read.h"
@@ -177,45 +179,77 @@ void CheckReplaceableFile(const std::string& flag, const fs::path& path) {
 
 namespace {
 
-// Every file and symbolic link below `dir` (not the inventory), by its path relative to `dir`.
-std::set<std::string> FilesBelow(const fs::path& dir) {
-  std::set<std::string> files;
-  for (fs::recursive_directory_iterator it(dir), end; it != end; ++it) {
-    if (fs::is_directory(it->symlink_status())) continue;
-    const std::string rel = it->path().lexically_relative(dir).generic_string();
-    if (rel != kInventory) files.insert(rel);
+// Every entry below `dir` (not the inventory), by its path relative to `dir`, folders with a
+// trailing '/' (an empty folder a user made is theirs too). `flag` names the output in errors.
+std::set<std::string> EntriesBelow(const std::string& flag, const fs::path& dir) {
+  std::set<std::string> entries;
+  std::error_code ec;
+  fs::recursive_directory_iterator it(dir, ec), end;
+  for (; !ec && it != end; it.increment(ec)) {
+    std::string rel = it->path().lexically_relative(dir).generic_string();
+    if (rel == kInventory) continue;
+    if (fs::is_directory(it->symlink_status())) rel += '/';
+    entries.insert(rel);
   }
-  return files;
+  if (ec) {
+    throw InputError(flag, 0, dir.string(), "cannot list its files: " + ec.message());
+  }
+  return entries;
+}
+
+// The entries an inventory lists (empty when `dir` has none; *found says whether it has one).
+std::set<std::string> Listed(const fs::path& dir, bool* found) {
+  std::error_code ec;
+  *found = fs::is_regular_file(fs::symlink_status(dir / kInventory, ec));
+  std::set<std::string> listed;
+  if (!*found) return listed;
+  std::istringstream in(ReadBoundedFile((dir / kInventory).string(), kInventoryFileLimits));
+  std::string line;
+  std::getline(in, line);  // the format line
+  while (std::getline(in, line)) listed.insert(line);
+  return listed;
 }
 
 }  // namespace
 
 void WriteInventory(const fs::path& dir) {
-  const std::set<std::string> files = FilesBelow(dir);
-  WriteFileAtomically((dir / kInventory).string(), [&files](std::ostream& out) {
+  const std::set<std::string> entries = EntriesBelow(dir.string(), dir);
+  WriteFileAtomically((dir / kInventory).string(), [&entries](std::ostream& out) {
     out << "rabbit-inventory/1\n";
-    for (const std::string& rel : files) out << rel << '\n';
+    for (const std::string& rel : entries) out << rel << '\n';
   });
 }
 
 void CheckInventory(const std::string& flag, const fs::path& dir) {
-  std::error_code ec;
-  if (!fs::is_regular_file(fs::symlink_status(dir / kInventory, ec))) return;
-  const std::string text = ReadBoundedFile((dir / kInventory).string(), kInventoryFileLimits);
-  std::set<std::string> listed;
-  std::istringstream in(text);
-  std::string line;
-  std::getline(in, line);  // the format line
-  while (std::getline(in, line)) listed.insert(line);
-  for (const std::string& rel : FilesBelow(dir)) {
-    // The shards of a sharded run written into an earlier report's folder: rabbit's, each under
-    // its own marker (rabbit report merges them).
-    if (rel.rfind("shards/", 0) == 0 || listed.count(rel) != 0) continue;
+  bool found = false;
+  const std::set<std::string> listed = Listed(dir, &found);
+  if (!found) return;
+  // The shards a sharded run wrote into an earlier report's folder: each against its own
+  // inventory (rabbit report merges them).
+  std::map<std::string, std::pair<bool, std::set<std::string>>> shards;
+  for (const std::string& rel : EntriesBelow(flag, dir)) {
+    if (listed.count(rel) != 0 || rel == "shards/") continue;
+    if (rel.rfind("shards/", 0) == 0) {
+      const size_t slash = rel.find('/', 7);
+      if (slash == std::string::npos) continue;  // a shard's folder itself
+      const std::string shard = rel.substr(0, slash);
+      auto at = shards.find(shard);
+      if (at == shards.end()) {
+        bool has = false;
+        std::set<std::string> own = Listed(dir / shard, &has);
+        at = shards.emplace(shard, std::make_pair(has, std::move(own))).first;
+      }
+      const std::string inner = rel.substr(slash + 1);  // "": the shard's folder
+      if (!at->second.first || inner.empty() || inner == kInventory ||
+          at->second.second.count(inner) != 0) {
+        continue;
+      }
+    }
     throw InputError(flag, 0, dir.string(),
-                     "holds " + rel +
-                         ", which rabbit did not write: rabbit replaces or rewrites this whole "
-                         "folder, so move the file out of it first (or remove the folder "
-                         "yourself)");
+                     "holds " + rel + ", which is not one of the files rabbit wrote there (its " +
+                         kInventory +
+                         " lists them): rabbit replaces or rewrites this whole folder, so move it "
+                         "out first (or remove the folder yourself)");
   }
 }
 

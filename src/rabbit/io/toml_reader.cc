@@ -179,9 +179,20 @@ int TomlReader::LineOf(const toml::node* node) const {
 }
 
 void TomlReader::Fail(const std::string& key, const std::string& message) const {
-  if (!key.empty() && patch_blame_ != nullptr && patches_ != nullptr &&
-      patches_->count(rel_ + key) != 0) {
-    (*patch_blame_)(rel_ + key, message + " (" + PathOf(key) + " of " + file_ + ")");
+  if (patch_blame_ != nullptr && patches_ != nullptr) {
+    // The setting at fault: `key`, or the one a table's check names first in its message
+    // ("hip_kp must be >= 0", "recovery.response_catch_back must be ...").
+    std::string path = rel_ + key;
+    if (patches_->count(path) == 0) {
+      const size_t end = message.find_first_not_of(
+          "abcdefghijklmnopqrstuvwxyzABCDEFGHIJKLMNOPQRSTUVWXYZ0123456789_.");
+      const std::string named = message.substr(0, end);
+      path = rel_ + (key.empty() ? "" : key + ".") + named;
+    }
+    if (patches_->count(path) != 0) {
+      (*patch_blame_)(
+          path, message + " (" + (key.empty() ? prefix_ : PathOf(key)) + " of " + file_ + ")");
+    }
   }
   const toml::node* node = key.empty() ? nullptr : Find(key);
   throw InputError(file_, LineOf(node), key.empty() ? prefix_ : PathOf(key), message);
