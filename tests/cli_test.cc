@@ -284,6 +284,27 @@ TEST_F(CliTest, MistakesAreNamed) {
   EXPECT_NE(command.output.find("'simulat' is not a command of rabbit (its commands: simulate,"),
             std::string::npos)
       << command.output;
+  // Another kind of TOML file rabbit reads, given to run or simulate: the command that takes it.
+  const CliRun job = RunCli("run " + std::string(RABBIT_SOURCE_DIR) +
+                            "/optimizers/jobs/velocity_gains.toml --no-html -q --out " +
+                            (dir_ / "never").string());
+  EXPECT_EQ(job.code, 2);
+  EXPECT_NE(job.output.find("velocity_gains.toml: this is a tuning job: run it with `rabbit tune`"),
+            std::string::npos)
+      << job.output;
+  EXPECT_FALSE(fs::exists(dir_ / "never"));
+  const CliRun targets =
+      RunCli("simulate " + std::string(RABBIT_SOURCE_DIR) + "/gaits/targets.toml");
+  EXPECT_EQ(targets.code, 2);
+  EXPECT_NE(targets.output.find("this is a gait targets file"), std::string::npos)
+      << targets.output;
+  const CliRun params =
+      RunCli("run -q --no-html " + Write("best.toml", "[params]\n\"controller.k_p\" = 0.1\n"));
+  EXPECT_EQ(params.code, 2);
+  EXPECT_NE(params.output.find("best.toml: this is a parameter overlay: give it to a command with "
+                               "--params"),
+            std::string::npos)
+      << params.output;
   // A word after an option the level does not take may be its value: no guess.
   const CliRun value = RunCli("fis --vm 0.5");
   EXPECT_EQ(value.code, 2);

@@ -327,9 +327,23 @@ ModelParams LoadModelFile(const std::string& path) {
   return p;
 }
 
+void RefuseOtherKindsOfFile(const TomlReader& root) {
+  // The other TOML files rabbit reads, by the table each one has at its root: without this, the
+  // first required key a scenario lacks would be the message.
+  const std::pair<const char*, const char*> kinds[] = {
+      {"job", "a tuning job: run it with `rabbit tune`"},
+      {"gait",
+       "a gait targets file: build it with `rabbit gaits build` (or `rabbit gaits generate`)"},
+      {"params", "a parameter overlay: give it to a command with --params"}};
+  for (const auto& [table, what] : kinds) {
+    if (root.Has(table)) throw InputError(root.file(), 0, "", std::string("this is ") + what);
+  }
+}
+
 Scenario LoadScenario(const std::string& path, const ParamOverlay* overlay) {
-  return ReadScenario(TomlReader::ParseFile(path), std::filesystem::path(path).stem().string(),
-                      overlay);
+  TomlReader root = TomlReader::ParseFile(path);
+  RefuseOtherKindsOfFile(root);
+  return ReadScenario(root, std::filesystem::path(path).stem().string(), overlay);
 }
 
 Scenario ReadScenario(TomlReader root, const std::string& default_name, const ParamOverlay* overlay,
@@ -367,7 +381,8 @@ Scenario ReadScenario(TomlReader root, const std::string& default_name, const Pa
   }
   // "shards" is where a sharded run's parts wait for their merge (rabbit/report/shards.h).
   if (s.name == "summary.csv" || s.name == "comparison.csv" || s.name == "targets.csv" ||
-      s.name == "members.csv" || s.name == "push_survival.csv" || s.name == "index.html" || s.name == "shards" || s.name[0] == '.') {
+      s.name == "members.csv" || s.name == "push_survival.csv" || s.name == "index.html" ||
+      s.name == "shards" || s.name[0] == '.') {
     root.Fail("name", "\"" + s.name + "\" is taken by the report's own files");
   }
   s.description = root.String("description", "");

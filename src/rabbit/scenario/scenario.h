@@ -113,6 +113,10 @@ struct Scenario {
   std::string family;
 };
 
+// Throws InputError naming the file when `root` is another kind of TOML file rabbit reads (a
+// tuning job, gait targets, a parameter overlay), saying which command takes it.
+void RefuseOtherKindsOfFile(const TomlReader& root);
+
 // Reads and validates a scenario file. Throws InputError naming the file, line and key.
 // With an overlay, its parameters replace the scenario's settings (InputError, naming the overlay,
 // for a parameter that names no numeric setting of the scenario).

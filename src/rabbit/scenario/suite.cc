@@ -210,6 +210,7 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
   Suite suite;
   suite.file = path;
   if (!root.Has("suite") && !root.Has("scenario") && !root.Has("family")) {
+    RefuseOtherKindsOfFile(root);
     suite.scenarios.push_back(
         ReadScenario(root, std::filesystem::path(path).stem().string(), overlay, record()));
     suite.name = suite.scenarios.back().name;
