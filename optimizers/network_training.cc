@@ -3,13 +3,13 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <filesystem>
 #include <limits>
 #include <stdexcept>
 
 #include "cmac_fit.h"
 #include "rabbit/io/atomic_file.h"
+#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/output_ownership.h"
 #include "rabbit/learn/cmac_training.h"
@@ -29,9 +29,7 @@ bool NetworkTrainingOptions::IsValid(std::string* error) const {
   }
   // One message per setting, naming it and the value given.
   auto bad = [error](const std::string& name, const std::string& range, double value) {
-    char text[160];
-    std::snprintf(text, sizeof text, "%s must be %s, got %g", name.c_str(), range.c_str(), value);
-    *error = text;
+    *error = name + " must be " + range + ", got " + FormatLimit(value);
     return false;
   };
   if (!(beta > 0.0 && beta <= 1.0)) return bad("beta", "in (0, 1]", beta);

@@ -148,12 +148,8 @@ TuneResult RunTune(const TuneJob& job, const TuneOptions& options) {
   RunAgreed([&] {   // rank 0 alone looks at the folder: a throw there must stop every rank
     if (!Ranks::root()) return;
     // Before the lock, which makes the folders above a shard's: not through a user's link.
-    if (fs::is_symlink(fs::symlink_status(out))) {
-      problem =
-          "is a symbolic link, not a tuning job's folder: give the folder it points to, or "
-          "another path";
-      return;
-    }
+    problem = SymbolicLinkRefusal(out, "a tuning job's folder");
+    if (!problem.empty()) return;
     lock = OutputLock(dir, "--out");
     const bool has_log = fs::exists(dir / "evaluations.csv");
     if (fs::exists(out) && !fs::is_directory(out)) {

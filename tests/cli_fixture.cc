@@ -1,5 +1,6 @@
 #include "cli_fixture.h"
 
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -101,6 +102,29 @@ fs::path MakeScratchDir(const std::string& prefix) {
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;
+}
+
+HeldWriter::HeldWriter(const std::string& args, const std::string& phase, const fs::path& fifo,
+                       const fs::path& log)
+    : fifo_(fifo) {
+  EXPECT_EQ(::mkfifo(fifo.c_str(), 0600), 0) << fifo;
+  const std::string command = "RABBIT_TEST_PAUSE_AT=" + phase +
+                              " RABBIT_TEST_PAUSE_FIFO=" + fifo.string() + " " + CliPath() + " " +
+                              args + " > " + log.string() + " 2>&1";
+  pipe_ = popen(command.c_str(), "r");
+}
+
+std::string HeldWriter::WaitAtPhase() {
+  std::ifstream in(fifo_);
+  std::string phase, pid;
+  in >> phase >> pid;
+  return pid;
+}
+
+int HeldWriter::Finish() {
+  { std::ofstream release(fifo_); }
+  const int status = pclose(pipe_);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
 }
 
 }  // namespace rabbit::testing

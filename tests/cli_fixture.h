@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <string>
 
@@ -61,6 +62,23 @@ class ScratchDirTest : public ::testing::Test {
   }
   std::string prefix_;
   std::filesystem::path dir_;
+};
+
+// A rabbit command started in the background and held at a test phase (RABBIT_TEST_PAUSE_AT, with
+// the FIFO `fifo`, which it makes), so that the order of two writers is forced without any sleep;
+// its output goes to `log`.
+class HeldWriter {
+ public:
+  HeldWriter(const std::string& args, const std::string& phase, const std::filesystem::path& fifo,
+             const std::filesystem::path& log);
+  // Blocks until the command has reached its phase; returns its pid.
+  std::string WaitAtPhase();
+  // Lets it go on, and returns its exit code (-1 if it did not exit).
+  int Finish();
+
+ private:
+  std::filesystem::path fifo_;
+  FILE* pipe_ = nullptr;
 };
 
 // The CLI tests' fixture (cli_test, cli_run_test, cli_report_test): a scratch folder, and the

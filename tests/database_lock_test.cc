@@ -26,40 +26,11 @@ namespace {
 
 namespace fs = std::filesystem;
 using rabbit::testing::CliRun;
+using rabbit::testing::HeldWriter;
 using rabbit::testing::ReadText;
 using rabbit::testing::RunCli;
 
 const std::string kRoot = RABBIT_SOURCE_DIR;
-
-// A writer started in the background and held at a phase (the test hook's FIFO handshake), so
-// that the order of two writers is forced without any sleep.
-class HeldWriter {
- public:
-  HeldWriter(const std::string& args, const std::string& phase, const fs::path& fifo,
-             const fs::path& log)
-      : fifo_(fifo) {
-    EXPECT_EQ(::mkfifo(fifo.c_str(), 0600), 0);
-    const std::string command = "RABBIT_TEST_PAUSE_AT=" + phase +
-                                " RABBIT_TEST_PAUSE_FIFO=" + fifo.string() + " " + RABBIT_CLI_PATH +
-                                " " + args + " > " + log.string() + " 2>&1";
-    pipe_ = popen(command.c_str(), "r");
-  }
-  std::string WaitAtPhase() {
-    std::ifstream in(fifo_);
-    std::string phase, pid;
-    in >> phase >> pid;
-    return pid;
-  }
-  int Finish() {
-    { std::ofstream release(fifo_); }
-    const int status = pclose(pipe_);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-
- private:
-  fs::path fifo_;
-  FILE* pipe_ = nullptr;
-};
 
 class DatabaseLockTest : public ::testing::Test {
  protected:

@@ -1,7 +1,7 @@
 // What rabbit will never do to a user's files, end to end on the built binary: every command that
 // writes refuses (exit 2, naming the path, nothing touched) an output it did not make; a special
-// file is never replaced; `-` is standard output; one writer per output; and a SIGKILL at each
-// named phase (RABBIT_TEST_KILL_AT) leaves a state the next run resumes or cleans up.
+// file is never replaced; `-` is standard output. (A writer killed or run twice at once:
+// interrupted_writers_test.)
 #include <fcntl.h>
 #include <gtest/gtest.h>
 #include <sys/stat.h>
@@ -19,6 +19,7 @@
 #include <vector>
 
 #include "cli_fixture.h"
+#include "file_safety_fixture.h"
 
 namespace {
 
@@ -27,76 +28,11 @@ namespace fs = std::filesystem;
 const std::string kRoot = RABBIT_SOURCE_DIR;
 
 using rabbit::testing::CliRun;
+using rabbit::testing::FileSafetyTest;
 using rabbit::testing::ReadText;
 using rabbit::testing::RunCli;
+using rabbit::testing::TreeSnapshot;
 using rabbit::testing::WithoutWallTime;
-
-// Every file below `root` (or `root` itself) with its content, and every folder: what "untouched"
-// compares.
-std::map<std::string, std::string> Snapshot(const fs::path& root) {
-  std::map<std::string, std::string> files;
-  if (!fs::exists(fs::symlink_status(root))) return files;
-  if (!fs::is_directory(fs::symlink_status(root))) {
-    files[root.string()] = fs::is_fifo(fs::symlink_status(root)) ? "<fifo>" : ReadText(root);
-    return files;
-  }
-  files[root.string()] = "<dir>";
-  for (const auto& e : fs::recursive_directory_iterator(root)) {
-    const fs::file_status s = fs::symlink_status(e.path());
-    files[e.path().string()] = fs::is_directory(s) ? "<dir>"
-                               : fs::is_fifo(s)    ? "<fifo>"
-                                                   : ReadText(e.path());
-  }
-  return files;
-}
-
-class FileSafetyTest : public rabbit::testing::ScratchDirTest {
- protected:
-  FileSafetyTest() : ScratchDirTest("rabbit_file_safety") {}
-  // A gait database of two shipped gaits (quick to train), at `name`.
-  fs::path SmallDatabase(const std::string& name) {
-    const fs::path db = dir_ / name, shipped = kRoot + "/gaits/reference";
-    fs::create_directories(db);
-    std::stringstream index(ReadText(shipped / "index.csv"));
-    std::string line, text;
-    std::getline(index, line);
-    text = line + "\n";
-    while (std::getline(index, line)) {
-      if (line.rfind("vm_0.30,", 0) == 0 || line.rfind("vm_0.40,", 0) == 0) {
-        text += line + "\n";
-        const std::string file = line.substr(line.find(',') + 1);
-        fs::copy_file(shipped / file.substr(0, file.find(',')),
-                      db / file.substr(0, file.find(',')));
-      }
-    }
-    std::ofstream(db / "index.csv") << text;
-    return db;
-  }
-  // A two-scenario walking suite on the shipped database (a few seconds).
-  fs::path SmallSuite() {
-    return Write("small.toml",
-                 "[suite]\nname = \"small\"\n[defaults]\nexpect_outcome = \"completed\"\n"
-                 "[defaults.simulation]\nduration = 3.0\nrecord_every = 20\n"
-                 "[defaults.velocity]\nvalue = 0.6\n"
-                 "[defaults.controller]\ntype = \"fuzzy_cmac\"\nfll = \"" +
-                     kRoot + "/gaits/gait_pattern.fll\"\nnetworks = \"" + kRoot +
-                     "/gaits/networks\"\ngaits = \"" + kRoot + "/gaits/reference\"\n" +
-                     "[[scenario]]\nname = \"walk\"\n[[scenario]]\nname = \"second\"\n");
-  }
-  fs::path TuneJob() {
-    return Write("job.toml", "[job]\nsuites = [\"" + kRoot +
-                                 "/scenarios/tune_ramp.toml\"]\nfilter = \"^ramp_up$\"\n"
-                                 "max_evaluations = 4\n[objective]\nspeed_error = 1.0\n"
-                                 "[[parameter]]\npath = \"controller.k_p\"\nlower = 0.0\n"
-                                 "upper = 0.6\n[[parameter]]\npath = \"controller.k_v\"\n"
-                                 "lower = 0.0\nupper = 0.4\n");
-  }
-  fs::path MakeFifo(const std::string& name) {
-    const fs::path path = dir_ / name;
-    EXPECT_EQ(::mkfifo(path.c_str(), 0600), 0);
-    return path;
-  }
-};
 
 std::string Expand(std::string text, const fs::path& dir) {
   for (size_t at; (at = text.find("{d}")) != std::string::npos;) text.replace(at, 3, dir.string());
@@ -357,12 +293,12 @@ TEST_F(RefusalTest, EveryWriterRefusesWhatItDidNotMake) {
     fs::create_directories(dir_);
     row.setup(this);
     std::map<std::string, std::map<std::string, std::string>> before;
-    for (const std::string& p : row.untouched) before[p] = Snapshot(Expand(p, dir_));
+    for (const std::string& p : row.untouched) before[p] = TreeSnapshot(Expand(p, dir_));
     const CliRun run = RunCli(Expand(row.command, dir_));
     EXPECT_EQ(run.code, row.code) << run.output;
     EXPECT_NE(run.output.find(row.fragment), std::string::npos) << run.output;
     for (const std::string& p : row.untouched) {
-      EXPECT_EQ(Snapshot(Expand(p, dir_)), before[p]) << p << " changed";
+      EXPECT_EQ(TreeSnapshot(Expand(p, dir_)), before[p]) << p << " changed";
     }
     // Nothing left beside them either: no lock, staging or temporary files.
     for (const auto& e : fs::directory_iterator(dir_)) {
@@ -389,13 +325,13 @@ TEST_F(FileSafetyTest, ASymbolicLinkAtAFolderOutputIsRefused) {
       SCOPED_TRACE(command + " -> " + target);
       fs::remove(dir_ / "link");
       fs::create_symlink(dir_ / target, dir_ / "link");
-      const auto before = Snapshot(dir_ / "elsewhere");
+      const auto before = TreeSnapshot(dir_ / "elsewhere");
       const CliRun run = RunCli(Expand(command, dir_));
       EXPECT_EQ(run.code, 2);
       EXPECT_NE(run.output.find("is a symbolic link"), std::string::npos) << run.output;
       EXPECT_TRUE(fs::is_symlink(fs::symlink_status(dir_ / "link")));
       EXPECT_EQ(fs::read_symlink(dir_ / "link"), dir_ / target);
-      EXPECT_EQ(Snapshot(dir_ / "elsewhere"), before);
+      EXPECT_EQ(TreeSnapshot(dir_ / "elsewhere"), before);
       EXPECT_FALSE(fs::exists(fs::symlink_status(dir_ / "link.partial")));
       EXPECT_FALSE(fs::exists(dir_ / "missing"));
     }
@@ -461,219 +397,15 @@ TEST_F(FileSafetyTest, TrainReplacesOnlyItsOwnNetworksFolder) {
   EXPECT_FALSE(fs::exists(dir_ / "nets.staging"));
   // A file a user put there (not in the inventory) is not rabbit's to delete: refused, kept.
   std::ofstream(nets / "notes.txt") << "mine\n";
-  const auto before = Snapshot(nets);
+  const auto before = TreeSnapshot(nets);
   const CliRun refused = RunCli(train);
   EXPECT_EQ(refused.code, 2);
   EXPECT_NE(
       refused.output.find("holds notes.txt, which is not one of the files rabbit wrote there"),
       std::string::npos)
       << refused.output;
-  EXPECT_EQ(Snapshot(nets), before);
+  EXPECT_EQ(TreeSnapshot(nets), before);
   EXPECT_FALSE(fs::exists(dir_ / "nets.staging"));
-}
-
-// SIGKILL at each of train's phases: the old networks stay whole until the swap, and the next
-// train cleans up and succeeds.
-TEST_F(FileSafetyTest, TrainKilledAtEveryPhaseIsCleanedUpByTheNext) {
-  const fs::path db = SmallDatabase("db"), nets = dir_ / "nets";
-  const std::string train = "train --gaits " + db.string() + " --out " + nets.string();
-  ASSERT_EQ(RunCli(train).code, 0);
-  const auto networks = Snapshot(nets);
-  for (const char* phase : {"train-staging", "train-written", "train-replaced"}) {
-    SCOPED_TRACE(phase);
-    const CliRun killed = RunCli(train, std::string("RABBIT_TEST_KILL_AT=") + phase);
-    ASSERT_TRUE(killed.killed) << killed.output;
-    // Before the swap the old networks are whole; after it, the new ones (the same fits).
-    EXPECT_EQ(Snapshot(nets), networks);
-    const CliRun next = RunCli(train);
-    ASSERT_EQ(next.code, 0) << next.output;
-    EXPECT_EQ(Snapshot(nets), networks);
-    EXPECT_FALSE(fs::exists(dir_ / "nets.staging"));
-    EXPECT_FALSE(fs::exists(dir_ / ".nets.rabbit-lock"));
-  }
-}
-
-// SIGKILL at each of gaits report's phases: the next report cleans up and succeeds.
-TEST_F(FileSafetyTest, GaitReportKilledAtEveryPhaseIsCleanedUpByTheNext) {
-  const fs::path db = SmallDatabase("db"), out = dir_ / "report";
-  const std::string report = "gaits report --dir " + db.string() + " --out " + out.string();
-  ASSERT_EQ(RunCli(report).code, 0);
-  const auto page = Snapshot(out);
-  for (const char* phase :
-       {"gaits-report-staging", "gaits-report-written", "gaits-report-replaced"}) {
-    SCOPED_TRACE(phase);
-    ASSERT_TRUE(RunCli(report, std::string("RABBIT_TEST_KILL_AT=") + phase).killed);
-    EXPECT_EQ(Snapshot(out), page);  // whole at every moment (the same walks, the same page)
-    ASSERT_EQ(RunCli(report).code, 0);
-    EXPECT_EQ(Snapshot(out), page);
-    EXPECT_FALSE(fs::exists(dir_ / "report.partial"));
-  }
-}
-
-// SIGKILL at each of run's phases, then the same command with --resume: the report of an
-// uninterrupted run, no staging folder left.
-TEST_F(FileSafetyTest, RunKilledAtEveryPhaseResumes) {
-  const fs::path suite = SmallSuite(), one = dir_ / "one", out = dir_ / "out";
-  const std::string run = "run " + suite.string() + " --jobs 1 --no-html -q --out ";
-  ASSERT_EQ(RunCli(run + one.string()).code, 0);
-  const std::string expected = WithoutWallTime(ReadText(one / "summary.csv"));
-  ASSERT_EQ(RunCli(run + out.string()).code, 0);  // an earlier report, replaced each time
-  for (const char* phase : {"run-claimed", "run-staged", "run-replaced", "run-clearing-staging"}) {
-    SCOPED_TRACE(phase);
-    if (std::string(phase) == "run-clearing-staging") {
-      // Clearing only happens over a staging folder left behind: leave one with finished runs.
-      ASSERT_TRUE(RunCli(run + out.string(), "RABBIT_RUN_KILL_AFTER=2").killed);
-    }
-    const CliRun killed = RunCli(run + out.string(), std::string("RABBIT_TEST_KILL_AT=") + phase);
-    ASSERT_TRUE(killed.killed) << killed.output;
-    EXPECT_TRUE(fs::exists(out / "summary.csv"));  // a whole report is there at every moment
-    const CliRun resumed = RunCli(run + out.string() + " --resume");
-    ASSERT_EQ(resumed.code, 0) << resumed.output;
-    EXPECT_EQ(WithoutWallTime(ReadText(out / "summary.csv")), expected);
-    EXPECT_FALSE(fs::exists(dir_ / "out.partial"));
-    EXPECT_FALSE(fs::exists(out / ".rabbit-staging"));
-    EXPECT_FALSE(fs::exists(dir_ / ".out.rabbit-lock"));
-  }
-}
-
-// A resume over a changed input file (here the gait database's index) is refused, naming it.
-TEST_F(FileSafetyTest, RunResumeRefusesChangedInputFilesNamingThem) {
-  fs::copy(kRoot + "/gaits", dir_ / "gaits", fs::copy_options::recursive);
-  std::string text = ReadText(SmallSuite());
-  for (size_t at; (at = text.find(kRoot + "/gaits")) != std::string::npos;) {
-    text.replace(at, kRoot.size() + 6, (dir_ / "gaits").string());
-  }
-  const fs::path suite = Write("local.toml", text), out = dir_ / "out";
-  const std::string run = "run " + suite.string() + " --jobs 1 --no-html -q --out " + out.string();
-  ASSERT_TRUE(RunCli(run, "RABBIT_RUN_KILL_AFTER=1").killed);
-  const fs::path changed = dir_ / "gaits" / "reference" / "vm_0.30.csv";
-  std::ofstream(changed, std::ios::app) << "\n";
-  const CliRun resumed = RunCli(run + " --resume");
-  EXPECT_EQ(resumed.code, 2) << resumed.output;
-  EXPECT_NE(resumed.output.find(changed.string() + " changed since the run began"),
-            std::string::npos)
-      << resumed.output;
-  EXPECT_TRUE(fs::exists(dir_ / "out.partial" / ".rabbit-staging"));  // nothing discarded
-}
-
-// Shards run over different input files (a gait changed between them) are not merged.
-TEST_F(FileSafetyTest, ShardsOverChangedInputFilesAreNotMerged) {
-  fs::copy(kRoot + "/gaits", dir_ / "gaits", fs::copy_options::recursive);
-  std::string text = ReadText(SmallSuite());
-  for (size_t at; (at = text.find(kRoot + "/gaits")) != std::string::npos;) {
-    text.replace(at, kRoot.size() + 6, (dir_ / "gaits").string());
-  }
-  const fs::path suite = Write("local.toml", text), out = dir_ / "out";
-  const std::string run = "run " + suite.string() + " --jobs 1 --no-html -q --out " + out.string();
-  ASSERT_EQ(RunCli(run + " --shard 1/2").code, 0);
-  std::ofstream(dir_ / "gaits" / "reference" / "vm_0.30.csv", std::ios::app) << "\n";
-  ASSERT_EQ(RunCli(run + " --shard 2/2").code, 0);
-  const auto shards = Snapshot(out);
-  const CliRun merged = RunCli("report -q " + out.string());
-  EXPECT_EQ(merged.code, 2) << merged.output;
-  EXPECT_NE(merged.output.find("another plan"), std::string::npos) << merged.output;
-  EXPECT_EQ(Snapshot(out), shards);
-}
-
-// SIGKILL at each of tune's phases, then --resume: the result of an uninterrupted job.
-TEST_F(FileSafetyTest, TuneKilledAtEveryPhaseResumes) {
-  const fs::path job = TuneJob(), whole = dir_ / "whole", cut = dir_ / "cut";
-  const std::string tune = "tune " + job.string() + " -q --no-html --out ";
-  ASSERT_EQ(RunCli(tune + whole.string()).code, 0);
-  for (const char* phase : {"tune-marked", "tune-searched"}) {
-    SCOPED_TRACE(phase);
-    fs::remove_all(cut);
-    const CliRun killed = RunCli(tune + cut.string(), std::string("RABBIT_TEST_KILL_AT=") + phase);
-    ASSERT_TRUE(killed.killed) << killed.output;
-    const CliRun resumed = RunCli(tune + cut.string() + " --resume");
-    ASSERT_EQ(resumed.code, 0) << resumed.output;
-    EXPECT_EQ(ReadText(cut / "best.toml"), ReadText(whole / "best.toml"));
-    EXPECT_FALSE(fs::exists(dir_ / ".cut.rabbit-lock"));
-  }
-}
-
-// A tune --resume over a changed input file (a gait of the database) is refused, naming it.
-TEST_F(FileSafetyTest, TuneResumeRefusesChangedInputFilesNamingThem) {
-  fs::copy(kRoot + "/gaits", dir_ / "gaits", fs::copy_options::recursive);
-  fs::create_directories(dir_ / "scenarios");
-  fs::copy_file(kRoot + "/scenarios/tune_ramp.toml", dir_ / "scenarios" / "tune_ramp.toml");
-  std::string text = ReadText(TuneJob());
-  text.replace(text.find(kRoot), kRoot.size(), dir_.string());
-  const fs::path job = Write("local_job.toml", text), out = dir_ / "job";
-  const std::string tune = "tune " + job.string() + " -q --no-html --out " + out.string();
-  ASSERT_TRUE(RunCli(tune, "RABBIT_TUNE_KILL_AFTER=2").killed);  // a log to resume
-  const fs::path changed = dir_ / "gaits" / "reference" / "vm_0.30.csv";
-  std::ofstream(changed, std::ios::app) << "\n";
-  const CliRun resumed = RunCli(tune + " --resume");
-  EXPECT_EQ(resumed.code, 2) << resumed.output;
-  EXPECT_NE(resumed.output.find(changed.string() + " changed since the run began"),
-            std::string::npos)
-      << resumed.output;
-}
-
-// A process started in the background, held at a phase by the test hook's FIFO handshake, so the
-// order of two writers is forced without any sleep.
-class HeldWriter {
- public:
-  HeldWriter(const std::string& args, const std::string& phase, const fs::path& fifo,
-             const fs::path& log)
-      : fifo_(fifo) {
-    const std::string command = "RABBIT_TEST_PAUSE_AT=" + phase +
-                                " RABBIT_TEST_PAUSE_FIFO=" + fifo.string() + " " + RABBIT_CLI_PATH +
-                                " " + args + " > " + log.string() + " 2>&1";
-    pipe_ = popen(command.c_str(), "r");
-  }
-  // Blocks until the writer has reached its phase; returns its pid.
-  std::string WaitAtPhase() {
-    std::ifstream in(fifo_);
-    std::string phase, pid;
-    in >> phase >> pid;
-    return pid;
-  }
-  // Lets it go on, and returns its exit code.
-  int Finish() {
-    { std::ofstream release(fifo_); }
-    const int status = pclose(pipe_);
-    return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  }
-
- private:
-  fs::path fifo_;
-  FILE* pipe_ = nullptr;
-};
-
-TEST_F(FileSafetyTest, SecondRunWaitsForNoneAndTouchesNothingWhileTheFirstReplaces) {
-  const fs::path suite = SmallSuite(), out = dir_ / "out";
-  const std::string run = "run " + suite.string() + " --jobs 1 --no-html -q --out " + out.string();
-  ASSERT_EQ(RunCli(run).code, 0);
-  // The first run holds just before it swaps its finished report in, under its lock.
-  HeldWriter first(run, "run-staged", MakeFifo("fifo"), dir_ / "first.log");
-  const std::string pid = first.WaitAtPhase();
-  const auto staging = Snapshot(dir_ / "out.partial");
-  const CliRun second = RunCli(run);
-  EXPECT_EQ(second.code, 2) << second.output;
-  EXPECT_NE(second.output.find("is being written by another rabbit (pid " + pid + ")"),
-            std::string::npos)
-      << second.output;
-  EXPECT_EQ(Snapshot(dir_ / "out.partial"), staging);  // the first one's work is untouched
-  EXPECT_EQ(RunCli(run + " --resume").code, 2);
-  EXPECT_EQ(first.Finish(), 0) << ReadText(dir_ / "first.log");
-  EXPECT_TRUE(fs::exists(out / "summary.csv"));
-  EXPECT_FALSE(fs::exists(dir_ / "out.partial"));
-}
-
-TEST_F(FileSafetyTest, SecondTuneResumeIsRefusedWhileTheFirstWrites) {
-  const fs::path job = TuneJob(), out = dir_ / "job";
-  const std::string tune = "tune " + job.string() + " -q --no-html --out " + out.string();
-  HeldWriter first(tune, "tune-marked", MakeFifo("fifo"), dir_ / "first.log");
-  const std::string pid = first.WaitAtPhase();
-  const CliRun second = RunCli(tune + " --resume");
-  EXPECT_EQ(second.code, 2) << second.output;
-  EXPECT_NE(second.output.find("is being written by another rabbit (pid " + pid + ")"),
-            std::string::npos)
-      << second.output;
-  EXPECT_EQ(first.Finish(), 0) << ReadText(dir_ / "first.log");
-  EXPECT_TRUE(fs::exists(out / "best.toml"));
 }
 
 }  // namespace

@@ -81,10 +81,8 @@ int RunBuild(const BuildArgs& a) {
   // it, so none is left waiting).
   // The path itself is the database's root: not a symbolic link to one (nor a dangling one).
   CheckOutputParents("--out", a.out);
-  if (std::filesystem::is_symlink(std::filesystem::symlink_status(a.out))) {
-    throw InputError("--out", 0, a.out,
-                     "is a symbolic link, not a gait database: give the folder it points to, or "
-                     "another path");
+  if (const std::string link = SymbolicLinkRefusal(a.out, "a gait database"); !link.empty()) {
+    throw InputError("--out", 0, a.out, link);
   }
   OutputLock lock;
   RunAgreed([&] {

@@ -29,6 +29,7 @@
 #include "cli/commands.h"
 #include "cli/data_root.h"
 #include "cli/flag_checks.h"
+#include "cli/run_output_checks.h"
 #include "cli/run_summary.h"
 #include "rabbit/gait/database_layout.h"
 #include "rabbit/io/atomic_file.h"
@@ -76,9 +77,6 @@ struct RunArgs {
 // The default suite: scenarios/paper.toml below the data root (cli/data_root.h).
 std::string DefaultSuite() { return DataPath(kDefaultSuite); }
 
-// A staging folder's marker: which plan it holds, and the content hash of every input file.
-constexpr const char* kStagingMarker = ".rabbit-staging";
-constexpr const char* kLegacyStagingLock = ".lock";  // the lock's place in earlier versions
 constexpr const char* kStagingTag = "rabbit-staging/1";
 
 std::string StagingMarkerText(const std::string& suite, const std::string& plan,
@@ -277,47 +275,6 @@ SuiteOutcome RunOneSuite(const Suite& suite, const std::vector<BatchJob>& plan,
     }
   });
   return outcome;
-}
-
-// Throws InputError unless rabbit run may replace the report folder `out`.
-void CheckReportOutput(const fs::path& out) {
-  // The path itself, not what a symbolic link there points to: the swap at the end would replace
-  // the link, which rabbit did not make.
-  CheckOutputParents("--out", out);
-  const fs::file_status status = fs::symlink_status(out);
-  if (!fs::exists(status)) return;
-  if (fs::is_symlink(status)) {
-    throw InputError("--out", 0, out.string(),
-                     "is a symbolic link, not a report of rabbit run: refusing to replace it; give "
-                     "the folder it points to, or another path");
-  }
-  if (fs::is_directory(status) && fs::is_empty(out)) return;
-  if (fs::is_directory(status) && fs::exists(out / kReportMarker)) {
-    CheckInventory("--out", out);  // a file added to the report is not rabbit's to delete
-    return;
-  }
-  if (fs::is_directory(status) && fs::is_directory(out / kShardsFolder)) {
-    throw InputError("--out", 0, out.string(),
-                     "holds the shards of a sharded run: merge them with rabbit report " +
-                         out.string() + ", or remove " + (out / kShardsFolder).string());
-  }
-  throw InputError("--out", 0, out.string(),
-                   std::string("exists and is not a report of rabbit run (no ") + kReportMarker +
-                       "): refusing to replace it");
-}
-
-// Throws InputError unless the staging folder beside a report is rabbit run's own: missing, empty,
-// or holding a staging, report or shard marker (or, from earlier versions, only their lock file).
-void CheckStagingOutput(const fs::path& staging) {
-  if (fs::is_directory(staging)) {
-    bool only_lock = true;
-    for (const fs::directory_entry& e : fs::directory_iterator(staging)) {
-      only_lock = only_lock && e.path().filename() == kLegacyStagingLock;
-    }
-    if (only_lock) return;
-  }
-  CheckOwnedFolder("--out", staging, {kStagingMarker, kReportMarker, kShardMarker},
-                   "a staging folder of rabbit run");
 }
 
 // Rank 0: takes each suite's staging folder (its lock) and finds what a killed run of the same

@@ -2,10 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstdio>
 #include <string>
 #include <utility>
 #include <vector>
+
+#include "rabbit/io/bounded_read.h"
 
 namespace rabbit {
 
@@ -29,11 +30,6 @@ bool PragmaticParams::IsValid(std::string* error) const {
     }
   }
   // Each setting by name, with the value given.
-  auto text = [](double v) {
-    char buffer[32];
-    std::snprintf(buffer, sizeof buffer, "%g", v);
-    return std::string(buffer);
-  };
   const std::pair<const char*, double> nonnegative[] = {
       {"pulse_start", pulse_start}, {"pulse_duration", pulse_duration},
       {"hip_kp", hip_kp},           {"hip_kd", hip_kd},
@@ -41,7 +37,7 @@ bool PragmaticParams::IsValid(std::string* error) const {
       {"knee_kp", knee_kp},         {"knee_kd", knee_kd}};
   for (const auto& [name, value] : nonnegative) {
     if (value < 0.0) {
-      *error = std::string(name) + " must be >= 0, got " + text(value);
+      *error = std::string(name) + " must be >= 0, got " + FormatLimit(value);
       return false;
     }
   }
@@ -60,12 +56,12 @@ bool PragmaticParams::IsValid(std::string* error) const {
   for (const auto& [name, value] : {std::pair<const char*, double>{"pulse_start", pulse_start},
                                     {"pulse_duration", pulse_duration}}) {
     if (value > 10.0) {
-      *error = std::string(name) + " must be <= 10 s, got " + text(value);
+      *error = std::string(name) + " must be <= 10 s, got " + FormatLimit(value);
       return false;
     }
   }
   if (std::abs(pulse_torque) > 1e4) {
-    *error = "|pulse_torque| must be <= 1e4 N m, got " + text(pulse_torque);
+    *error = "|pulse_torque| must be <= 1e4 N m, got " + FormatLimit(pulse_torque);
     return false;
   }
   return true;

@@ -102,6 +102,14 @@ bool HasMarker(const fs::path& dir, const std::vector<std::string>& markers) {
   return false;
 }
 
+std::string SymbolicLinkRefusal(const fs::path& path, const std::string& what) {
+  std::error_code ec;
+  if (!fs::is_symlink(fs::symlink_status(path, ec))) return "";
+  return "is a symbolic link, not " + what +
+         ": refusing to replace it or write through it; give the folder it points to, or another "
+         "path";
+}
+
 void CheckOutputParents(const std::string& flag, const fs::path& path) {
   std::error_code ec;
   fs::path normal = path.lexically_normal();

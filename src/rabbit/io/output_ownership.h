@@ -52,6 +52,11 @@ void CheckOwnedFile(const std::string& flag, const std::filesystem::path& path,
 // FIFO, socket, folder or symbolic link there is refused).
 void CheckReplaceableFile(const std::string& flag, const std::filesystem::path& path);
 
+// When `path` itself is a symbolic link (dangling or not): the reason a command that writes the
+// folder `what` at that path refuses it (it would replace the link, or write through it where the
+// user did not ask); "" otherwise.
+std::string SymbolicLinkRefusal(const std::filesystem::path& path, const std::string& what);
+
 // Throws InputError unless every existing folder above `path` is a folder (or a link to one):
 // nothing can be written below a file (`--out notes.txt/report`).
 void CheckOutputParents(const std::string& flag, const std::filesystem::path& path);
