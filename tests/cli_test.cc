@@ -289,22 +289,33 @@ TEST_F(CliTest, MistakesAreNamed) {
                             "/optimizers/jobs/velocity_gains.toml --no-html -q --out " +
                             (dir_ / "never").string());
   EXPECT_EQ(job.code, 2);
-  EXPECT_NE(job.output.find("velocity_gains.toml: this is a tuning job: run it with `rabbit tune`"),
+  EXPECT_NE(job.output.find("velocity_gains.toml: this is a tuning job, not a scenario or a suite: "
+                            "run it with `rabbit tune`"),
             std::string::npos)
       << job.output;
   EXPECT_FALSE(fs::exists(dir_ / "never"));
   const CliRun targets =
       RunCli("simulate " + std::string(RABBIT_SOURCE_DIR) + "/gaits/targets.toml");
   EXPECT_EQ(targets.code, 2);
-  EXPECT_NE(targets.output.find("this is a gait targets file"), std::string::npos)
+  EXPECT_NE(targets.output.find("targets.toml: this is a gait targets file, not a scenario or a "
+                                "suite: build it with `rabbit gaits build`"),
+            std::string::npos)
       << targets.output;
   const CliRun params =
       RunCli("run -q --no-html " + Write("best.toml", "[params]\n\"controller.k_p\" = 0.1\n"));
   EXPECT_EQ(params.code, 2);
-  EXPECT_NE(params.output.find("best.toml: this is a parameter overlay: give it to a command with "
-                               "--params"),
+  EXPECT_NE(params.output.find("best.toml: this is a parameter overlay, not a scenario or a suite: "
+                               "give it to a command with --params"),
             std::string::npos)
       << params.output;
+  // A scenario (it has [simulation]) with a stray key of such a name: that key, with its line.
+  const CliRun stray =
+      RunCli("simulate " + Write("stray.toml",
+                                 "gait = \"x\"\n[simulation]\nduration = 0.05\n[initial]\n"
+                                 "foot_clearance = 0.02\n[controller]\ntype = \"pd_hold\"\n"));
+  EXPECT_EQ(stray.code, 2);
+  EXPECT_NE(stray.output.find("stray.toml:1: 'gait': unknown key"), std::string::npos)
+      << stray.output;
   // A word after an option the level does not take may be its value: no guess.
   const CliRun value = RunCli("fis --vm 0.5");
   EXPECT_EQ(value.code, 2);

@@ -4,11 +4,8 @@
 // and what a killed writer leaves inside a built database (a lock file, a marked staging folder,
 // a pending gait) does not make its manifest check refuse it.
 #include <gtest/gtest.h>
-#include <sys/stat.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
-#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>

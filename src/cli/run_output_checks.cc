@@ -10,6 +10,10 @@ namespace rabbit::cli {
 
 namespace fs = std::filesystem;
 
+namespace {
+constexpr const char* kLegacyStagingLock = ".lock";  // the lock's place in earlier versions
+}  // namespace
+
 void CheckReportOutput(const fs::path& out) {
   // The path itself, not what a symbolic link there points to: the swap at the end would replace
   // the link, which rabbit did not make.

@@ -10,8 +10,6 @@ namespace rabbit::cli {
 
 // A staging folder's marker: which plan it holds, and the content hash of every input file.
 constexpr const char* kStagingMarker = ".rabbit-staging";
-// The lock's place in a staging folder in earlier versions.
-constexpr const char* kLegacyStagingLock = ".lock";
 
 // Throws InputError unless rabbit run may replace the report folder `out`.
 void CheckReportOutput(const std::filesystem::path& out);

@@ -103,8 +103,7 @@ bool HasMarker(const fs::path& dir, const std::vector<std::string>& markers) {
 }
 
 std::string SymbolicLinkRefusal(const fs::path& path, const std::string& what) {
-  std::error_code ec;
-  if (!fs::is_symlink(fs::symlink_status(path, ec))) return "";
+  if (!fs::is_symlink(fs::symlink_status(path))) return "";
   return "is a symbolic link, not " + what +
          ": refusing to replace it or write through it; give the folder it points to, or another "
          "path";

@@ -329,14 +329,29 @@ ModelParams LoadModelFile(const std::string& path) {
 
 void RefuseOtherKindsOfFile(const TomlReader& root) {
   // The other TOML files rabbit reads, by the table each one has at its root: without this, the
-  // first required key a scenario lacks would be the message.
-  const std::pair<const char*, const char*> kinds[] = {
-      {"job", "a tuning job: run it with `rabbit tune`"},
-      {"gait",
-       "a gait targets file: build it with `rabbit gaits build` (or `rabbit gaits generate`)"},
-      {"params", "a parameter overlay: give it to a command with --params"}};
-  for (const auto& [table, what] : kinds) {
-    if (root.Has(table)) throw InputError(root.file(), 0, "", std::string("this is ") + what);
+  // first required key a scenario lacks would be the message. A file with a [simulation] table is
+  // a scenario, whatever else it holds: a stray `gait = ...` or [params] in it is named as an
+  // unknown key, with its line.
+  if (root.layers().empty() || root.Has("simulation")) return;
+  const toml::table& top = *root.layers().front();
+  struct Kind {
+    const char* key;
+    bool array_of_tables;  // [[key]] rather than [key]
+    const char* what;
+    const char* use;
+  };
+  const Kind kinds[] = {
+      {"job", false, "a tuning job", "run it with `rabbit tune`"},
+      {"gait", true, "a gait targets file",
+       "build it with `rabbit gaits build` (or `rabbit gaits generate`)"},
+      {"params", false, "a parameter overlay", "give it to a command with --params"}};
+  for (const Kind& kind : kinds) {
+    const toml::node* node = top.get(kind.key);
+    if (node != nullptr && (kind.array_of_tables ? node->is_array_of_tables() : node->is_table())) {
+      throw InputError(
+          root.file(), 0, "",
+          std::string("this is ") + kind.what + ", not a scenario or a suite: " + kind.use);
+    }
   }
 }
 
