@@ -9,7 +9,6 @@
 
 #include "cmac_fit.h"
 #include "rabbit/io/atomic_file.h"
-#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/error.h"
 #include "rabbit/io/output_ownership.h"
 #include "rabbit/learn/cmac_training.h"

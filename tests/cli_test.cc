@@ -285,29 +285,30 @@ TEST_F(CliTest, MistakesAreNamed) {
             std::string::npos)
       << command.output;
   // Another kind of TOML file rabbit reads, given to run or simulate: the command that takes it.
-  const CliRun job = RunCli("run " + std::string(RABBIT_SOURCE_DIR) +
-                            "/optimizers/jobs/velocity_gains.toml --no-html -q --out " +
-                            (dir_ / "never").string());
-  EXPECT_EQ(job.code, 2);
-  EXPECT_NE(job.output.find("velocity_gains.toml: this is a tuning job, not a scenario or a suite: "
-                            "run it with `rabbit tune`"),
-            std::string::npos)
-      << job.output;
-  EXPECT_FALSE(fs::exists(dir_ / "never"));
-  const CliRun targets =
-      RunCli("simulate " + std::string(RABBIT_SOURCE_DIR) + "/gaits/targets.toml");
-  EXPECT_EQ(targets.code, 2);
-  EXPECT_NE(targets.output.find("targets.toml: this is a gait targets file, not a scenario or a "
-                                "suite: build it with `rabbit gaits build`"),
-            std::string::npos)
-      << targets.output;
-  const CliRun params =
-      RunCli("run -q --no-html " + Write("best.toml", "[params]\n\"controller.k_p\" = 0.1\n"));
-  EXPECT_EQ(params.code, 2);
-  EXPECT_NE(params.output.find("best.toml: this is a parameter overlay, not a scenario or a suite: "
-                               "give it to a command with --params"),
-            std::string::npos)
-      << params.output;
+  const std::string root = RABBIT_SOURCE_DIR;
+  const struct {
+    std::string command;
+    std::string expected;
+  } kinds[] = {
+      {"run " + root + "/optimizers/jobs/velocity_gains.toml --no-html -q --out " +
+           (dir_ / "never").string(),
+       "velocity_gains.toml: this is a tuning job, not a scenario or a suite: run it with "
+       "`rabbit tune`"},
+      {"simulate " + root + "/gaits/targets.toml --out " + (dir_ / "never").string(),
+       "targets.toml: this is a gait targets file, not a scenario or a suite: build it with "
+       "`rabbit gaits build`"},
+      {"run -q --no-html " + Write("best.toml", "[params]\n\"controller.k_p\" = 0.1\n"),
+       "best.toml: this is a parameter overlay, not a scenario or a suite: give it to a command "
+       "with --params"},
+      {"simulate " + root + "/scenarios/paper.toml --out " + (dir_ / "never").string(),
+       "paper.toml: this is a suite of scenarios: run it with `rabbit run`"}};
+  for (const auto& kind : kinds) {
+    SCOPED_TRACE(kind.command);
+    const CliRun run = RunCli(kind.command);
+    EXPECT_EQ(run.code, 2);
+    EXPECT_NE(run.output.find(kind.expected), std::string::npos) << run.output;
+    EXPECT_FALSE(fs::exists(dir_ / "never"));
+  }
   // A scenario (it has [simulation]) with a stray key of such a name: that key, with its line.
   const CliRun stray =
       RunCli("simulate " + Write("stray.toml",

@@ -496,8 +496,25 @@ TEST_F(SuiteTest, AScenarioFileIsASuiteOfOne) {
   const Suite suite = LoadSuite(kRoot + "/scenarios/standing_pd_hold.toml");
   ASSERT_EQ(suite.scenarios.size(), 1u);
   EXPECT_EQ(suite.name, "standing_pd_hold");
-  EXPECT_FALSE(IsSuiteFile(kRoot + "/scenarios/standing_pd_hold.toml"));
-  EXPECT_TRUE(IsSuiteFile(kRoot + "/scenarios/paper.toml"));
+}
+
+// A suite read as one scenario (rabbit simulate) is named as a suite, whichever of its tables
+// comes first, and not by the first scenario key it lacks.
+TEST_F(SuiteTest, ASuiteIsNotAScenario) {
+  EXPECT_NO_THROW(LoadScenario(kRoot + "/scenarios/standing_pd_hold.toml"));
+  for (const std::string& text :
+       {std::string("[suite]\nname = \"s\"\n"), std::string("[[scenario]]\nname = \"a\"\n"),
+        std::string("[[family]]\nname = \"f\"\n")}) {
+    SCOPED_TRACE(text);
+    const std::string path = Write("suite.toml", text);
+    try {
+      LoadScenario(path);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()),
+                path + ": this is a suite of scenarios: run it with `rabbit run`");
+    }
+  }
 }
 
 }  // namespace

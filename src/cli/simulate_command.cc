@@ -8,13 +8,11 @@
 #include "cli/commands.h"
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/gait/database_layout.h"
-#include "rabbit/io/error.h"
 #include "rabbit/io/output_ownership.h"
 #include "rabbit/model/model.h"
 #include "rabbit/scenario/params.h"
 #include "rabbit/scenario/run.h"
 #include "rabbit/scenario/scenario.h"
-#include "rabbit/scenario/suite.h"
 #include "rabbit/scenario/trajectory_csv.h"
 #include "rabbit/sim/simulator.h"
 
@@ -31,10 +29,6 @@ struct SimulateArgs {
 };
 
 int RunSimulate(const SimulateArgs& args) {
-  if (IsSuiteFile(args.scenario)) {
-    throw InputError(args.scenario, 0, "",
-                     "this is a suite of scenarios: run it with `rabbit run`");
-  }
   ParamOverlay overlay;
   if (!args.params.empty()) overlay = LoadParamOverlay(args.params);
   if (!args.gaits.empty()) overlay.gait_database = GaitDatabaseRoot(args.gaits);

@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "rabbit/io/bounded_read.h"
+#include "rabbit/io/error.h"
 
 namespace rabbit {
 

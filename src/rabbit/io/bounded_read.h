@@ -23,9 +23,6 @@ std::string ReadBoundedFileIfExists(const std::string& path, const FileLimits& l
 // The line and line-count checks alone, on text already in memory (`file` names it in errors).
 void CheckLineLimits(std::string_view text, const std::string& file, const FileLimits& limits);
 
-// A number for messages, as %g writes it: "3600", "2e+06", "0.5".
-std::string FormatLimit(double v);
-
 // "4 MiB", "64 KiB", "100 bytes": a limit for messages.
 std::string FormatBytes(size_t bytes);
 

@@ -1,6 +1,15 @@
 #include "rabbit/io/error.h"
 
+#include <cstdio>
+
 namespace rabbit {
+
+std::string FormatLimit(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
 namespace {
 
 std::string Format(const std::string& file, int line, const std::string& key,

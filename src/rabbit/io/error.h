@@ -21,6 +21,9 @@ class InputError : public std::runtime_error {
   std::string key_;
 };
 
+// A number for messages, as %g writes it: "3600", "2e+06", "0.5".
+std::string FormatLimit(double v);
+
 }  // namespace rabbit
 
 #endif  // RABBIT_IO_ERROR_H_

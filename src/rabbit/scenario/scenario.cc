@@ -13,8 +13,8 @@
 
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/gait/walker_settings.h"
-#include "rabbit/io/bounded_read.h"
 #include "rabbit/io/error.h"
+#include "rabbit/io/limits.h"
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/learn/fll.h"
 #include "rabbit/scenario/controller_keys.h"
@@ -334,23 +334,27 @@ void RefuseOtherKindsOfFile(const TomlReader& root) {
   // unknown key, with its line.
   if (root.layers().empty() || root.Has("simulation")) return;
   const toml::table& top = *root.layers().front();
+  constexpr const char* kSuite = "this is a suite of scenarios: run it with `rabbit run`";
+  constexpr const char* kElse = ", not a scenario or a suite: ";
   struct Kind {
     const char* key;
     bool array_of_tables;  // [[key]] rather than [key]
-    const char* what;
-    const char* use;
+    std::string message;
   };
   const Kind kinds[] = {
-      {"job", false, "a tuning job", "run it with `rabbit tune`"},
-      {"gait", true, "a gait targets file",
-       "build it with `rabbit gaits build` (or `rabbit gaits generate`)"},
-      {"params", false, "a parameter overlay", "give it to a command with --params"}};
+      {"suite", false, kSuite},
+      {"scenario", true, kSuite},
+      {"family", true, kSuite},
+      {"job", false, std::string("this is a tuning job") + kElse + "run it with `rabbit tune`"},
+      {"gait", true,
+       std::string("this is a gait targets file") + kElse +
+           "build it with `rabbit gaits build` (or `rabbit gaits generate`)"},
+      {"params", false,
+       std::string("this is a parameter overlay") + kElse + "give it to a command with --params"}};
   for (const Kind& kind : kinds) {
     const toml::node* node = top.get(kind.key);
     if (node != nullptr && (kind.array_of_tables ? node->is_array_of_tables() : node->is_table())) {
-      throw InputError(
-          root.file(), 0, "",
-          std::string("this is ") + kind.what + ", not a scenario or a suite: " + kind.use);
+      throw InputError(root.file(), 0, "", kind.message);
     }
   }
 }

@@ -114,8 +114,8 @@ struct Scenario {
 };
 
 // Throws InputError naming the file when `root` is another kind of TOML file rabbit reads (a
-// tuning job, gait targets, a parameter overlay: its [job], [[gait]] or [params], and no
-// [simulation]), saying which command takes it.
+// suite, a tuning job, gait targets, a parameter overlay: its [suite], [[scenario]] or
+// [[family]], [job], [[gait]] or [params], and no [simulation]), saying which command takes it.
 void RefuseOtherKindsOfFile(const TomlReader& root);
 
 // Reads and validates a scenario file. Throws InputError naming the file, line and key.

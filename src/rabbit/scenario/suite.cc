@@ -193,11 +193,6 @@ double FamilyDraw(std::uint64_t family_seed, int member, const std::string& key,
   return low + u * (high - low);
 }
 
-bool IsSuiteFile(const std::string& path) {
-  const TomlReader root = TomlReader::ParseFile(path);
-  return root.Has("suite") || root.Has("scenario") || root.Has("family");
-}
-
 Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
                 std::vector<std::map<std::string, double>>* settings) {
   if (settings != nullptr) settings->clear();

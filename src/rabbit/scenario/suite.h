@@ -64,10 +64,6 @@ std::string MembersCsv(const Suite& suite);
 // rabbit/report/comparison.h), written by `rabbit run` when the suite has targets.
 std::string TargetsCsv(const Suite& suite);
 
-// Whether a TOML file is a suite (has [suite], [[scenario]] or [[family]]) rather than a single
-// scenario. Throws InputError for a missing file or a syntax error.
-bool IsSuiteFile(const std::string& path);
-
 // Reads, expands and validates a suite; scenario names must be unique. A single scenario file is
 // read as a suite of one, named after the scenario. Throws InputError naming
 // the file, line and key (for a family member: the family's keys, and the member's name).
