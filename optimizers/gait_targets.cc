@@ -11,6 +11,7 @@
 #include "rabbit/io/toml_reader.h"
 #include "rabbit/scenario/params.h"
 #include "rabbit/scenario/scenario.h"
+#include "rabbit/scenario/suite.h"
 
 namespace rabbit {
 namespace {
@@ -109,6 +110,11 @@ GaitTargets ReadGaitTargets(const std::string& path) {
     const std::string suite = check.String("suite", "");
     if (suite.empty()) check.Fail("suite", "name the suite to run on the built database");
     out.check_suite = Resolve(check, suite);
+    try {  // now, not after the build: a wrong file is named before the work
+      CheckSuiteFile(out.check_suite);
+    } catch (const InputError& e) {
+      check.Fail("suite", e.what());
+    }
     check.Finish();
   }
   std::map<std::string, int> names;            // name -> line

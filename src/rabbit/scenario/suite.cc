@@ -193,6 +193,21 @@ double FamilyDraw(std::uint64_t family_seed, int member, const std::string& key,
   return low + u * (high - low);
 }
 
+namespace {
+
+// A suite has a [suite] table, or its scenarios in [[scenario]] or [[family]]; any other file is
+// read as a single scenario.
+bool IsSuite(const TomlReader& root) {
+  return root.Has("suite") || root.Has("scenario") || root.Has("family");
+}
+
+}  // namespace
+
+void CheckSuiteFile(const std::string& path) {
+  const TomlReader root = TomlReader::ParseFile(path);
+  if (!IsSuite(root)) RefuseOtherKindsOfFile(root);
+}
+
 Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
                 std::vector<std::map<std::string, double>>* settings) {
   if (settings != nullptr) settings->clear();
@@ -204,7 +219,7 @@ Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
   TomlReader root = TomlReader::ParseFile(path);
   Suite suite;
   suite.file = path;
-  if (!root.Has("suite") && !root.Has("scenario") && !root.Has("family")) {
+  if (!IsSuite(root)) {
     RefuseOtherKindsOfFile(root);
     suite.scenarios.push_back(
         ReadScenario(root, std::filesystem::path(path).stem().string(), overlay, record()));

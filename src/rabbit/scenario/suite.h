@@ -64,6 +64,11 @@ std::string MembersCsv(const Suite& suite);
 // rabbit/report/comparison.h), written by `rabbit run` when the suite has targets.
 std::string TargetsCsv(const Suite& suite);
 
+// Reads a suite file as far as can be done without its gait database, for a suite named now and
+// run later (a gait build's check, which runs on the database once it is built): a readable TOML
+// file that is a suite or a scenario, not another kind of rabbit file. Throws InputError otherwise.
+void CheckSuiteFile(const std::string& path);
+
 // Reads, expands and validates a suite; scenario names must be unique. A single scenario file is
 // read as a suite of one, named after the scenario. Throws InputError naming
 // the file, line and key (for a family member: the family's keys, and the member's name).
