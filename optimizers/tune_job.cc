@@ -114,15 +114,22 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
     head.Fail("name", SafeNameRule(job.name) + " (it names the output folder)");
   }
   job.description = head.String("description", "");
-  for (const std::string& s : head.Strings("suites", {})) {
-    if (s.empty()) head.Fail("suites", "an empty path: name a suite file");
-    job.suites.push_back(resolve(s));
-  }
+  // A suite file that is missing, unreadable or another kind of file is named at the key that
+  // lists it (its path is resolved from the job's folder); its contents' errors name the suite.
+  auto listed = [&head, &resolve](const char* key, std::vector<std::string>* paths) {
+    for (const std::string& s : head.Strings(key, {})) {
+      if (s.empty()) head.Fail(key, "an empty path: name a suite file");
+      paths->push_back(resolve(s));
+      try {
+        CheckSuiteFile(paths->back());
+      } catch (const InputError& e) {
+        head.Fail(key, e.what());
+      }
+    }
+  };
+  listed("suites", &job.suites);
   if (job.suites.empty()) head.Fail("suites", "name at least one suite file");
-  for (const std::string& s : head.Strings("guards", {})) {
-    if (s.empty()) head.Fail("guards", "an empty path: name a suite file");
-    job.guards.push_back(resolve(s));
-  }
+  listed("guards", &job.guards);
   job.filter = head.String("filter", "");
   const std::string filter_problem = RegexFilterProblem(job.filter);
   if (!filter_problem.empty()) head.Fail("filter", "bad regex: " + filter_problem);

@@ -132,11 +132,40 @@ TEST_F(TuneTest, MoreBadJobs) {
     EXPECT_EQ(e.key(), "objective.form");
     EXPECT_EQ(e.line(), 5);
   }
-  // A suite that does not exist.
+  // A suite that does not exist, and a guard that is another kind of file: named at the key that
+  // lists them, with the path resolved from the job's folder.
   const std::string missing =
       Write("missing.toml", "[job]\nsuites = [\"nowhere.toml\"]\nalgorithm = \"sbplx\"\n"
                             "[objective]\nenergy = 1\n" + one);
-  EXPECT_THROW(LoadTuneJob(missing), InputError);
+  try {
+    LoadTuneJob(missing);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "job.suites");
+    EXPECT_EQ(e.line(), 2);
+    EXPECT_NE(std::string(e.what()).find(
+                  "'job.suites': " + (fs::path(missing).parent_path() / "nowhere.toml").string() +
+                  ": cannot open the file: no such file"),
+              std::string::npos)
+        << e.what();
+  }
+  const std::string guard =
+      Write("guard.toml", "[job]\nsuites = [\"" + kRoot +
+                              "/scenarios/tune_ramp.toml\"]\nguards = [\"" + kRoot +
+                              "/optimizers/jobs/velocity_gains.toml\"]\nalgorithm = \"sbplx\"\n"
+                              "[objective]\nenergy = 1\n" +
+                              one);
+  try {
+    LoadTuneJob(guard);
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_EQ(e.key(), "job.guards");
+    EXPECT_EQ(e.line(), 3);
+    EXPECT_NE(std::string(e.what()).find("velocity_gains.toml: this is a tuning job, not a "
+                                         "scenario or a suite: run it with `rabbit tune`"),
+              std::string::npos)
+        << e.what();
+  }
   // An empty suite path, and a suite listed twice (its runs would be mixed in the logs).
   const std::string empty =
       Write("empty.toml", "[job]\nsuites = [\"\"]\nalgorithm = \"sbplx\"\n"
