@@ -278,6 +278,27 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   for (const ParamValue& v : job.base.values)
     h = Fnv1a(v.path + "=" + ExactNumber(v.value) + ";", h);
   std::map<std::string, std::string> suite_names;  // name -> file
+  // A candidate's values apply to every scenario of each suite and guard file (the filter selects
+  // what runs, not what is read): a tuned path that one of them lacks would make every candidate
+  // invalid, so it stops the job here.
+  auto check_paths = [&](const std::map<std::string, double>& settings, const std::string& scenario,
+                         const std::string& file, const char* where) {
+    for (const TuneParameter& q : job.parameters) {
+      for (const std::string& one : q.paths) {
+        if (settings.count(one) == 0) {
+          const std::string near = Near(settings, one);
+          throw InputError(path, q.line, one,
+                           "names no numeric setting of scenario \"" + scenario + "\" in " + file +
+                               where + (near.empty() ? "" : " (its settings there: " + near + ")"));
+        }
+        if (settings.count("#integer:" + one) != 0) {
+          throw InputError(path, q.line, one,
+                           "is an integer setting of scenario \"" + scenario + "\" in " + file +
+                               where + ": only real-valued settings can be tuned");
+        }
+      }
+    }
+  };
   for (const std::string& suite_path : job.suites) {
     h = Fnv1a(FileText(suite_path), h);
     std::vector<std::map<std::string, double>> settings;
@@ -297,24 +318,17 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
     bool any = false;
     for (size_t i = 0; i < suite.scenarios.size(); ++i) {
       const Scenario& s = suite.scenarios[i];
-      if (!filter.Matches(s.name)) continue;
+      const bool selected = filter.Matches(s.name);
+      check_paths(settings[i], s.name, suite_path,
+                  selected ? ""
+                           : " (the filter leaves it out, but the candidates' values apply "
+                             "to it)");
+      if (!selected) continue;
       any = true;
       for (size_t k = 0; k < job.parameters.size(); ++k) {
         TuneParameter& q = job.parameters[k];
         for (const std::string& one : q.paths) {
           const auto found = settings[i].find(one);
-          if (found == settings[i].end()) {
-            const std::string near = Near(settings[i], one);
-            throw InputError(path, q.line, one,
-                             "names no numeric setting of scenario \"" + s.name + "\" in " +
-                                 suite_path +
-                                 (near.empty() ? "" : " (its settings there: " + near + ")"));
-          }
-          if (settings[i].count("#integer:" + one) != 0) {
-            throw InputError(path, q.line, one,
-                             "is an integer setting of scenario \"" + s.name +
-                                 "\": only real-valued settings can be tuned");
-          }
           if (std::isnan(q.initial)) {
             q.initial = found->second;
           } else if (!given_initial[k] && q.initial != found->second) {
@@ -336,7 +350,12 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   std::map<std::string, std::string> guard_names;  // name -> file
   for (const std::string& guard_path : job.guards) {
     h = Fnv1a("guard:" + FileText(guard_path), h);
-    const Suite suite = LoadSuite(guard_path, &job.base);
+    std::vector<std::map<std::string, double>> settings;
+    const Suite suite = LoadSuite(guard_path, &job.base, &settings);
+    for (size_t i = 0; i < suite.scenarios.size(); ++i) {
+      check_paths(settings[i], suite.scenarios[i].name, guard_path,
+                  " (a guard: the candidates' values apply to it)");
+    }
     for (const InputFile& f : HashInputFiles(SuiteInputFiles(suite))) {
       h = Fnv1a(f.sha256, h);
       job.inputs.push_back(f);

@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fstream>
 #include <sstream>
+#include <tuple>
 
 #include "cli_fixture.h"
 #include "rabbit/io/csv_table.h"
@@ -189,6 +190,44 @@ TEST_F(TuneTest, MoreBadJobs) {
     EXPECT_EQ(e.key(), "job.suites");
     EXPECT_NE(std::string(e.what()).find("two suites named \"tune_ramp\""), std::string::npos)
         << e.what();
+  }
+  // A candidate's values apply to every scenario of each suite and guard file: a tuned path that a
+  // scenario outside the filter, or a guard's, lacks stops the job at load, at the parameter's
+  // line (it made every candidate invalid, the whole budget run for no result).
+  const std::string mixed =
+      Write("mixed.toml",
+            "[suite]\nname = \"mixed\"\n[defaults.simulation]\nduration = 1.0\n"
+            "[defaults.initial]\ny = 0.9\n[[scenario]]\nname = \"held\"\n[scenario.controller]\n"
+            "type = \"pd_hold\"\nkp = 600.0\n[[scenario]]\nname = \"passive\"\n"
+            "[scenario.controller]\ntype = \"passive\"\n");
+  const std::string kp = "[[parameter]]\npath = \"controller.kp\"\nlower = 100\nupper = 900\n";
+  const std::string outside = Write("outside.toml",
+                                    "[job]\nsuites = [\"mixed.toml\"]\nfilter = \"^held$\"\n"
+                                    "algorithm = \"sbplx\"\n[objective]\nenergy = 1\n" +
+                                        kp);
+  const std::string guarded =
+      Write("guarded.toml", "[job]\nsuites = [\"" + kRoot +
+                                "/scenarios/tune_ramp.toml\"]\nguards = [\"" + kRoot +
+                                "/scenarios/reference_gaits.toml\"]\nalgorithm = \"sbplx\"\n"
+                                "[objective]\nenergy = 1\n" +
+                                one);
+  for (const auto& [job, key, text] :
+       {std::tuple{outside, "controller.kp",
+                   "names no numeric setting of scenario \"passive\" in " + mixed +
+                       " (the filter leaves it out, but the candidates' values apply to it)"},
+        std::tuple{guarded, "controller.k_p",
+                   "names no numeric setting of scenario \"vm_0.40\" in " + kRoot +
+                       "/scenarios/reference_gaits.toml (a guard: the candidates' values apply "
+                       "to it)"}}) {
+    SCOPED_TRACE(job);
+    try {
+      LoadTuneJob(job);
+      ADD_FAILURE();
+    } catch (const InputError& e) {
+      EXPECT_EQ(e.key(), key);
+      EXPECT_EQ(e.line(), 7);  // the [[parameter]]
+      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
+    }
   }
   // A filter matching no scenario.
   const std::string nothing = Write(
