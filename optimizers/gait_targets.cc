@@ -9,6 +9,7 @@
 
 #include "rabbit/io/error.h"
 #include "rabbit/io/toml_reader.h"
+#include "rabbit/learn/ts_fis.h"
 #include "rabbit/scenario/params.h"
 #include "rabbit/scenario/scenario.h"
 #include "rabbit/scenario/suite.h"
@@ -119,6 +120,7 @@ GaitTargets ReadGaitTargets(const std::string& path) {
   }
   std::map<std::string, int> names;            // name -> line
   std::map<std::pair<long, long>, int> cells;  // (v_m, l_step) in mm -> line
+  std::map<long, int> speeds;                  // a speed gait's v_m in mm -> line
   for (TomlReader& t : root.TableArray("gait")) {
     GaitTarget g;
     g.line = t.line();
@@ -162,6 +164,21 @@ GaitTargets ReadGaitTargets(const std::string& path) {
     if (!cell.second) {
       t.Fail("v_m", "a second target at the same (v_m, l_step) (the first is at line " +
                         std::to_string(cell.first->second) + ")");
+    }
+    // The fuzzy system blends the speed gaits by velocity: one each, and at most as many as its
+    // sets (checked here, not after the build's synthesis).
+    if (g.role == GaitRole::kSpeed) {
+      const auto speed = speeds.emplace(std::lround(o.target_v_m * 1000.0), g.line);
+      if (!speed.second) {
+        t.Fail("v_m", "a second speed gait at this v_m (the first is at line " +
+                          std::to_string(speed.first->second) +
+                          "; the fuzzy system blends the speed gaits by velocity: give this one "
+                          "role = \"library\", or another v_m)");
+      }
+      if (speeds.size() > kMaxGaitPatternGaits) {
+        t.Fail("", "more than " + std::to_string(kMaxGaitPatternGaits) +
+                       " speed gaits (the most the fuzzy system blends)");
+      }
     }
     out.gaits.push_back(g);
   }

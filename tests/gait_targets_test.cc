@@ -168,6 +168,23 @@ TEST_F(GaitTargetsTest, BadInputNamesLineAndKey) {
   EXPECT_NE(Error("[[gait]]\nv_m = 0.6\n[gait.bounds]\nknee = [1, 2]\n").find("knee"),
             std::string::npos);
   EXPECT_NE(Error("[bounds]\n").find("gait"), std::string::npos);
+  // The fuzzy system needs one speed gait per velocity, 64 at most: refused here, not after the
+  // build's synthesis. A library gait may share a speed gait's v_m.
+  const std::string same_speed = Error(
+      "[[gait]]\nv_m = 0.6\nl_step = 0.3\n[[gait]]\nv_m = 0.6\nl_step = 0.34\n"
+      "name = \"other\"\n");
+  EXPECT_NE(same_speed.find(":5: 'gait[2].v_m': a second speed gait at this v_m (the first is at "
+                            "line 1"),
+            std::string::npos)
+      << same_speed;
+  EXPECT_EQ(Error("[[gait]]\nv_m = 0.6\nl_step = 0.3\n[[gait]]\nv_m = 0.6\nl_step = 0.34\n"
+                  "role = \"library\"\n"),
+            "");
+  std::string many;
+  for (int k = 0; k < 65; ++k) many += "[[gait]]\nv_m = " + std::to_string(0.3 + 0.01 * k) + "\n";
+  EXPECT_NE(Error(many).find("more than 64 speed gaits"), std::string::npos);
+  many.resize(many.rfind("[[gait]]"));
+  EXPECT_EQ(Error(many), "");
 }
 
 // The check suite is run once the database is built; a file that cannot be one is named when the
