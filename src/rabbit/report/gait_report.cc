@@ -20,6 +20,11 @@ std::string WriteGaitReport(const std::string& dir, const std::string& out_dir) 
   const OutputLock lock =
       ClaimMarkedFolder("--out", out, staging, kGaitReportMarker, "a gait report of rabbit");
   const std::vector<GaitIndexEntry> index = ReadGaitIndex((fs::path(dir) / "index.csv").string());
+  // Every gait file is read before the first walk: a bad one is named before the work.
+  std::vector<GaitRecord> gaits;
+  for (const GaitIndexEntry& entry : index) {
+    gaits.push_back(ReadGaitFile((fs::path(dir) / entry.file).string()));
+  }
   const Model model{ModelParams{}};
   SimSetup setup;
   setup.model = &model;
@@ -37,8 +42,7 @@ std::string WriteGaitReport(const std::string& dir, const std::string& out_dir) 
           "<th>L<sub>step</sub> m</th><th>L<sub>step</sub> spread m</th><th>t<sub>step</sub> s"
           "</th><th>steps</th><th>saturation s</th><th>q<sub>r1</sub><sup>dsw</sup> deg</th>"
           "<th>q<sub>i2</sub><sup>dsw</sup> deg</th><th>q<sub>0</sub><sup>d</sup> deg</th></tr>";
-  for (const GaitIndexEntry& entry : index) {
-    const GaitRecord gait = ReadGaitFile((fs::path(dir) / entry.file).string());
+  for (const GaitRecord& gait : gaits) {
     const GaitRun run = WalkGait(setup, gait.spec, 20.0, 10);
     const GaitMetrics& m = run.metrics;
     char row[400];
