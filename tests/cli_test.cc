@@ -118,6 +118,13 @@ TEST_F(CliTest, GaitsListSynthesizeAndReport) {
   EXPECT_EQ(bad.code, 2) << bad.output;
   EXPECT_NE(bad.output.find("vm_0.45.csv"), std::string::npos) << bad.output;
   EXPECT_FALSE(fs::exists(dir_ / "bad_report"));
+  // An index with a bad row: named before the synthesis (which would print its result first).
+  std::ofstream(dir_ / "db" / "index.csv", std::ios::app) << "junk,row\n";
+  const CliRun index = RunCli("gaits synthesize --vm 0.5 --dir " + (dir_ / "db").string());
+  EXPECT_EQ(index.code, 2) << index.output;
+  EXPECT_NE(index.output.find("index.csv:3: expected 10 cells"), std::string::npos) << index.output;
+  EXPECT_EQ(index.output.find("simulations"), std::string::npos) << index.output;
+  EXPECT_FALSE(fs::exists(dir_ / "db" / "vm_0.50.csv"));
 }
 
 TEST_F(CliTest, FisEvalAndTrain) {

@@ -157,6 +157,10 @@ OutputLock ClaimGaitDatabase(const std::string& dir, const std::vector<std::stri
                    std::string("# format = ") + kGaitFormat, "a gait file of rabbit");
   }
   FinishGaitCommit(dir);
+  // The index the new gaits join, read now as the commit will read it: a bad row is named before
+  // the synthesis, not after it.
+  const std::filesystem::path index = std::filesystem::path(dir) / kGaitIndexFile;
+  if (std::filesystem::exists(index)) ReadGaitIndex(index.string());
   TestKillPoint("gaits-claimed");
   return lock;
 }
