@@ -288,6 +288,11 @@ std::string SimulatorSettingsText() {
 
 GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOptions& options) {
   const auto start = std::chrono::steady_clock::now();
+  // The check suite runs on the built database, which its scenarios need; the file itself is read
+  // now, so a missing or wrong one is named before the work, not after it.
+  if (!targets.check_suite.empty()) {
+    CheckNamedSuiteFile(targets.check_suite, targets.file, targets.check_line, "check.suite");
+  }
   const fs::path out(options.out);
   const bool out_existed = fs::exists(fs::symlink_status(out));
   auto log = [&](const std::string& line) {

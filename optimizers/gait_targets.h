@@ -44,6 +44,7 @@ struct GaitTargets {
   std::string model_file;  // resolved path, empty: the built-in model
   ModelParams model;
   std::string check_suite;  // resolved path, empty: none
+  int check_line = 0;       // where the targets file names it
   std::vector<GaitTarget> gaits;
 };
 

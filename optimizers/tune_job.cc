@@ -116,15 +116,11 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
   job.description = head.String("description", "");
   // A suite file that is missing, unreadable or another kind of file is named at the key that
   // lists it (its path is resolved from the job's folder); its contents' errors name the suite.
-  auto listed = [&head, &resolve](const char* key, std::vector<std::string>* paths) {
+  auto listed = [&head, &resolve, &path](const char* key, std::vector<std::string>* paths) {
     for (const std::string& s : head.Strings(key, {})) {
       if (s.empty()) head.Fail(key, "an empty path: name a suite file");
       paths->push_back(resolve(s));
-      try {
-        CheckSuiteFile(paths->back());
-      } catch (const InputError& e) {
-        head.Fail(key, e.what());
-      }
+      CheckNamedSuiteFile(paths->back(), path, head.KeyLine(key), std::string("job.") + key);
     }
   };
   listed("suites", &job.suites);
@@ -289,12 +285,12 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
           const std::string near = Near(settings, one);
           throw InputError(path, q.line, one,
                            "names no numeric setting of scenario \"" + scenario + "\" in " + file +
-                               where + (near.empty() ? "" : " (its settings there: " + near + ")"));
+                               (near.empty() ? "" : " (its settings there: " + near + ")") + where);
         }
         if (settings.count("#integer:" + one) != 0) {
           throw InputError(path, q.line, one,
                            "is an integer setting of scenario \"" + scenario + "\" in " + file +
-                               where + ": only real-valued settings can be tuned");
+                               ": only real-valued settings can be tuned" + where);
         }
       }
     }
@@ -321,8 +317,9 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
       const bool selected = filter.Matches(s.name);
       check_paths(settings[i], s.name, suite_path,
                   selected ? ""
-                           : " (the filter leaves it out, but the candidates' values apply "
-                             "to it)");
+                           : "; the filter leaves this scenario out, but a candidate's values "
+                             "apply to every scenario of the file: tune a path they all have, or "
+                             "move the others to a suite of their own");
       if (!selected) continue;
       any = true;
       for (size_t k = 0; k < job.parameters.size(); ++k) {
@@ -354,7 +351,8 @@ TuneJob LoadTuneJob(const std::string& path, const ParamOverlay* extra) {
     const Suite suite = LoadSuite(guard_path, &job.base, &settings);
     for (size_t i = 0; i < suite.scenarios.size(); ++i) {
       check_paths(settings[i], suite.scenarios[i].name, guard_path,
-                  " (a guard: the candidates' values apply to it)");
+                  "; a guard suite's scenarios run with a candidate's values too: guard with a "
+                  "suite whose scenarios all have this setting");
     }
     for (const InputFile& f : HashInputFiles(SuiteInputFiles(suite))) {
       h = Fnv1a(f.sha256, h);

@@ -236,6 +236,33 @@ TEST_F(GaitBuildTest, BadTargetsNameFileLineAndKey) {
 }
 
 // The command: bad targets exit 2 naming the file and key, and write nothing.
+// The check suite runs on the built database, but its file is read first: a missing, broken or
+// wrong one is named at the targets' `check.suite`, before any work, and nothing is written.
+TEST_F(GaitBuildTest, TheCheckSuiteIsReadBeforeTheWork) {
+  Write("suite.toml", "[suite]\nname = \"s\"\n");
+  Write("job.toml", "[job]\nsuites = [\"suite.toml\"]\n");
+  Write("broken.toml", "[suite\n");
+  const std::string job = (dir_ / "job.toml").string();
+  for (const auto& [suite, message] :
+       {std::pair<std::string, std::string>{
+            "none.toml", (dir_ / "none.toml").string() + ": cannot open the file: no such file"},
+        {"job.toml", job + ": this is a tuning job, not a scenario or a suite: run it with "
+                           "`rabbit tune`"},
+        {"broken.toml", (dir_ / "broken.toml").string() + ":1"}}) {
+    SCOPED_TRACE(suite);
+    const std::string targets =
+        Write("targets.toml", "[check]\nsuite = \"" + suite + "\"\n" + kTwoGaits);
+    try {
+      Build(targets, "db", 1);
+      ADD_FAILURE() << "no error";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind(targets + ":2: 'check.suite': " + message, 0), 0u)
+          << e.what();
+    }
+    EXPECT_FALSE(fs::exists(dir_ / "db"));
+  }
+}
+
 TEST_F(GaitBuildTest, CommandExitsTwoOnBadTargetsAndWritesNothing) {
   const std::string bad = Write("bad.toml", "[[gait]]\nv_m = 0.4\nname = \"index\"\n");
   const fs::path out = dir_ / "out";

@@ -63,6 +63,20 @@ TEST_F(FileSafetyTest, GaitReportKilledAtEveryPhaseIsCleanedUpByTheNext) {
   }
 }
 
+// Every gait file is read before the first walk: with the second gait broken, the report stops
+// before it walks (a kill at the first walk is never reached), exit 2, naming the file.
+TEST_F(FileSafetyTest, GaitReportReadsEveryGaitBeforeWalking) {
+  const fs::path db = SmallDatabase("db");
+  std::ofstream(db / "vm_0.40.csv", std::ios::app) << "not,a,row\n";
+  const CliRun run =
+      RunCli("gaits report --dir " + db.string() + " --out " + (dir_ / "report").string(),
+             "RABBIT_TEST_KILL_AT=gaits-report-walking");
+  EXPECT_FALSE(run.killed);
+  EXPECT_EQ(run.code, 2) << run.output;
+  EXPECT_NE(run.output.find("vm_0.40.csv"), std::string::npos) << run.output;
+  EXPECT_FALSE(fs::exists(dir_ / "report"));
+}
+
 // SIGKILL at each of run's phases, then the same command with --resume: the report of an
 // uninterrupted run, no staging folder left.
 TEST_F(FileSafetyTest, RunKilledAtEveryPhaseResumes) {

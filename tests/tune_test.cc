@@ -214,11 +214,11 @@ TEST_F(TuneTest, MoreBadJobs) {
   for (const auto& [job, key, text] :
        {std::tuple{outside, "controller.kp",
                    "names no numeric setting of scenario \"passive\" in " + mixed +
-                       " (the filter leaves it out, but the candidates' values apply to it)"},
+                       "; the filter leaves this scenario out, but a candidate's values apply to "
+                       "every scenario of the file"},
         std::tuple{guarded, "controller.k_p",
                    "names no numeric setting of scenario \"vm_0.40\" in " + kRoot +
-                       "/scenarios/reference_gaits.toml (a guard: the candidates' values apply "
-                       "to it)"}}) {
+                       "/scenarios/reference_gaits.toml"}}) {
     SCOPED_TRACE(job);
     try {
       LoadTuneJob(job);

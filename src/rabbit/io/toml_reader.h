@@ -104,6 +104,8 @@ class TomlReader {
   // Throws for the first key of this table that was never asked for.
   void Finish() const;
   [[noreturn]] void Fail(const std::string& key, const std::string& message) const;
+  // The line of `key` in this table (the table's own when it is absent), for an error found later.
+  int KeyLine(const std::string& key) const { return LineOf(Find(key)); }
 
   const std::string& file() const { return file_; }
   // The file's directory, to resolve relative paths named in it.

@@ -7,6 +7,7 @@
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/atomic_file.h"
 #include "rabbit/io/output_ownership.h"
+#include "rabbit/io/test_hooks.h"
 #include "rabbit/report/svg.h"
 
 namespace rabbit {
@@ -25,6 +26,7 @@ std::string WriteGaitReport(const std::string& dir, const std::string& out_dir) 
   for (const GaitIndexEntry& entry : index) {
     gaits.push_back(ReadGaitFile((fs::path(dir) / entry.file).string()));
   }
+  TestKillPoint("gaits-report-walking");
   const Model model{ModelParams{}};
   SimSetup setup;
   setup.model = &model;

@@ -208,6 +208,15 @@ void CheckSuiteFile(const std::string& path) {
   if (!IsSuite(root)) RefuseOtherKindsOfFile(root);
 }
 
+void CheckNamedSuiteFile(const std::string& path, const std::string& file, int line,
+                         const std::string& key) {
+  try {
+    CheckSuiteFile(path);
+  } catch (const InputError& e) {
+    throw InputError(file, line, key, e.what());
+  }
+}
+
 Suite LoadSuite(const std::string& path, const ParamOverlay* overlay,
                 std::vector<std::map<std::string, double>>* settings) {
   if (settings != nullptr) settings->clear();

@@ -68,6 +68,10 @@ std::string TargetsCsv(const Suite& suite);
 // run later (a gait build's check, which runs on the database once it is built): a readable TOML
 // file that is a suite or a scenario, not another kind of rabbit file. Throws InputError otherwise.
 void CheckSuiteFile(const std::string& path);
+// CheckSuiteFile for a suite named at `key` on `line` of `file` (a tuning job's suites, gait
+// targets' check): the error is given at that place, followed by the suite's own.
+void CheckNamedSuiteFile(const std::string& path, const std::string& file, int line,
+                         const std::string& key);
 
 // Reads, expands and validates a suite; scenario names must be unique. A single scenario file is
 // read as a suite of one, named after the scenario. Throws InputError naming
