@@ -163,7 +163,7 @@ GaitTargets ReadGaitTargets(const std::string& path) {
     // The fuzzy system blends the speed gaits by velocity: one each, and at most as many as its
     // sets (checked here, not after the build's synthesis).
     if (g.role == GaitRole::kSpeed) {
-      const auto speed = speeds.emplace(std::lround(o.target_v_m * 1000.0), g.line);
+      const auto speed = speeds.emplace(CellKey(o).first, g.line);
       if (!speed.second) {
         t.Fail("v_m", "a second speed gait at this v_m (the first is at line " +
                           std::to_string(speed.first->second) +

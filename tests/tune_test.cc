@@ -58,20 +58,27 @@ class TuneTest : public testing::ScratchDirTest {
                                   "lower = 0.0\nupper = 0.4\n"
                                 : parameters));
   }
+  // The error LoadTuneJob gives for the job at `path` (a failure, and an empty error, if none).
+  static InputError LoadError(const std::string& path) {
+    try {
+      LoadTuneJob(path);
+    } catch (const InputError& e) {
+      return e;
+    }
+    ADD_FAILURE() << "no error for " << path;
+    return InputError("", -1, "", "");
+  }
   void ExpectJobError(const std::string& extra_job, const std::string& parameters, int line,
                       const std::string& key, const std::string& fragment) {
     const std::string path = Job(extra_job, parameters);
-    try {
-      LoadTuneJob(path);
-      ADD_FAILURE() << "no error for " << extra_job << parameters;
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.file(), path) << e.what();
-      if (line >= 0) {
-        EXPECT_EQ(e.line(), line) << e.what();
-      }
-      EXPECT_EQ(e.key(), key) << e.what();
-      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    SCOPED_TRACE(extra_job + parameters);
+    const InputError e = LoadError(path);
+    EXPECT_EQ(e.file(), path) << e.what();
+    if (line >= 0) {
+      EXPECT_EQ(e.line(), line) << e.what();
     }
+    EXPECT_EQ(e.key(), key) << e.what();
+    EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
   }
 };
 
@@ -126,10 +133,8 @@ TEST_F(TuneTest, MoreBadJobs) {
   const std::string ceres = Write(
       "ceres.toml", "[job]\nsuites = [\"" + kRoot + "/scenarios/tune_ramp.toml\"]\n"
                     "algorithm = \"ceres\"\n[objective]\nform = \"mean\"\nenergy = 1\n" + one);
-  try {
-    LoadTuneJob(ceres);
-    ADD_FAILURE();
-  } catch (const InputError& e) {
+  {
+    const InputError e = LoadError(ceres);
     EXPECT_EQ(e.key(), "objective.form");
     EXPECT_EQ(e.line(), 5);
   }
@@ -138,10 +143,8 @@ TEST_F(TuneTest, MoreBadJobs) {
   const std::string missing =
       Write("missing.toml", "[job]\nsuites = [\"nowhere.toml\"]\nalgorithm = \"sbplx\"\n"
                             "[objective]\nenergy = 1\n" + one);
-  try {
-    LoadTuneJob(missing);
-    ADD_FAILURE();
-  } catch (const InputError& e) {
+  {
+    const InputError e = LoadError(missing);
     EXPECT_EQ(e.key(), "job.suites");
     EXPECT_EQ(e.line(), 2);
     EXPECT_NE(std::string(e.what()).find(
@@ -156,10 +159,8 @@ TEST_F(TuneTest, MoreBadJobs) {
                               "/optimizers/jobs/velocity_gains.toml\"]\nalgorithm = \"sbplx\"\n"
                               "[objective]\nenergy = 1\n" +
                               one);
-  try {
-    LoadTuneJob(guard);
-    ADD_FAILURE();
-  } catch (const InputError& e) {
+  {
+    const InputError e = LoadError(guard);
     EXPECT_EQ(e.key(), "job.guards");
     EXPECT_EQ(e.line(), 3);
     EXPECT_NE(std::string(e.what()).find("velocity_gains.toml: this is a tuning job, not a "
@@ -171,10 +172,8 @@ TEST_F(TuneTest, MoreBadJobs) {
   const std::string empty =
       Write("empty.toml", "[job]\nsuites = [\"\"]\nalgorithm = \"sbplx\"\n"
                           "[objective]\nenergy = 1\n" + one);
-  try {
-    LoadTuneJob(empty);
-    ADD_FAILURE();
-  } catch (const InputError& e) {
+  {
+    const InputError e = LoadError(empty);
     EXPECT_EQ(e.file(), empty);
     EXPECT_EQ(e.key(), "job.suites");
     EXPECT_EQ(e.line(), 2);
@@ -183,10 +182,8 @@ TEST_F(TuneTest, MoreBadJobs) {
       "twice.toml", "[job]\nsuites = [\"" + kRoot + "/scenarios/tune_ramp.toml\", \"" + kRoot +
                         "/scenarios/../scenarios/tune_ramp.toml\"]\nalgorithm = \"sbplx\"\n"
                         "[objective]\nenergy = 1\n" + one);
-  try {
-    LoadTuneJob(twice);
-    ADD_FAILURE();
-  } catch (const InputError& e) {
+  {
+    const InputError e = LoadError(twice);
     EXPECT_EQ(e.key(), "job.suites");
     EXPECT_NE(std::string(e.what()).find("two suites named \"tune_ramp\""), std::string::npos)
         << e.what();
@@ -220,24 +217,18 @@ TEST_F(TuneTest, MoreBadJobs) {
                    "names no numeric setting of scenario \"vm_0.40\" in " + kRoot +
                        "/scenarios/reference_gaits.toml"}}) {
     SCOPED_TRACE(job);
-    try {
-      LoadTuneJob(job);
-      ADD_FAILURE();
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.key(), key);
-      EXPECT_EQ(e.line(), 7);  // the [[parameter]]
-      EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
-    }
+    const InputError e = LoadError(job);
+    EXPECT_EQ(e.key(), key);
+    EXPECT_EQ(e.line(), 7);  // the [[parameter]]
+    EXPECT_NE(std::string(e.what()).find(text), std::string::npos) << e.what();
   }
   // A filter matching no scenario.
   const std::string nothing = Write(
       "nothing.toml", "[job]\nsuites = [\"" + kRoot + "/scenarios/tune_ramp.toml\"]\n"
                       "filter = \"^nothing$\"\nalgorithm = \"sbplx\"\n[objective]\nenergy = 1\n" +
                           one);
-  try {
-    LoadTuneJob(nothing);
-    ADD_FAILURE();
-  } catch (const InputError& e) {
+  {
+    const InputError e = LoadError(nothing);
     EXPECT_EQ(e.key(), "job.filter");
   }
   // Filters are RE2 expressions: a back-reference and repeats above 1000 are refused with RE2's
@@ -248,26 +239,19 @@ TEST_F(TuneTest, MoreBadJobs) {
     const std::string huge = Write(
         "huge.toml", "[job]\nsuites = [\"" + kRoot + "/scenarios/tune_ramp.toml\"]\nfilter = \"" +
                          filter + "\"\nalgorithm = \"sbplx\"\n[objective]\nenergy = 1\n" + one);
-    try {
-      LoadTuneJob(huge);
-      ADD_FAILURE() << filter;
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.key(), "job.filter");
-      EXPECT_NE(std::string(e.what()).find("RE2 syntax"), std::string::npos) << e.what();
-    }
+    SCOPED_TRACE(filter);
+    const InputError e = LoadError(huge);
+    EXPECT_EQ(e.key(), "job.filter");
+    EXPECT_NE(std::string(e.what()).find("RE2 syntax"), std::string::npos) << e.what();
   }
   {
     const std::string octal = Write(
         "octal.toml", "[job]\nsuites = [\"" + kRoot + "/scenarios/tune_ramp.toml\"]\n"
                       "filter = \"^vm_0\\\\4444444444444444444444$\"\n"
                       "algorithm = \"sbplx\"\n[objective]\nenergy = 1\n" + one);
-    try {
-      LoadTuneJob(octal);
-      ADD_FAILURE();
-    } catch (const InputError& e) {
-      EXPECT_EQ(e.key(), "job.filter");
-      EXPECT_NE(std::string(e.what()).find("no scenario"), std::string::npos) << e.what();
-    }
+    const InputError e = LoadError(octal);
+    EXPECT_EQ(e.key(), "job.filter");
+    EXPECT_NE(std::string(e.what()).find("no scenario"), std::string::npos) << e.what();
   }
   EXPECT_NE(RegexFilterProblem("^ramp_(up|down){1,2}[0-9]\\1$"), "");  // no back-references
   EXPECT_EQ(RegexFilterProblem("^ramp_(up|down){1,2}[0-9]$"), "");

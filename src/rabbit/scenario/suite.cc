@@ -201,12 +201,14 @@ bool IsSuite(const TomlReader& root) {
   return root.Has("suite") || root.Has("scenario") || root.Has("family");
 }
 
-}  // namespace
-
+// Reads a suite file as far as can be done without its gait database: a readable TOML file that
+// is a suite or a scenario, not another kind of rabbit file.
 void CheckSuiteFile(const std::string& path) {
   const TomlReader root = TomlReader::ParseFile(path);
   if (!IsSuite(root)) RefuseOtherKindsOfFile(root);
 }
+
+}  // namespace
 
 void CheckNamedSuiteFile(const std::string& path, const std::string& file, int line,
                          const std::string& key) {

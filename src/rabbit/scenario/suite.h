@@ -64,12 +64,11 @@ std::string MembersCsv(const Suite& suite);
 // rabbit/report/comparison.h), written by `rabbit run` when the suite has targets.
 std::string TargetsCsv(const Suite& suite);
 
-// Reads a suite file as far as can be done without its gait database, for a suite named now and
-// run later (a gait build's check, which runs on the database once it is built): a readable TOML
-// file that is a suite or a scenario, not another kind of rabbit file. Throws InputError otherwise.
-void CheckSuiteFile(const std::string& path);
-// CheckSuiteFile for a suite named at `key` on `line` of `file` (a tuning job's suites, gait
-// targets' check): the error is given at that place, followed by the suite's own.
+// Reads a suite file as far as can be done without its gait database, for a suite named at `key`
+// on `line` of `file` now and run later (a tuning job's suites and guards, a gait build's check,
+// which runs on the database once it is built): a readable TOML file that is a suite or a
+// scenario, not another kind of rabbit file. Throws InputError otherwise, given at that place and
+// followed by the suite file's own error.
 void CheckNamedSuiteFile(const std::string& path, const std::string& file, int line,
                          const std::string& key);
 
