@@ -66,7 +66,7 @@ class TuneTest : public testing::ScratchDirTest {
       return e;
     }
     ADD_FAILURE() << "no error for " << path;
-    return InputError("", -1, "", "");
+    return InputError(path, -1, "", "(LoadTuneJob gave no error)");
   }
   void ExpectJobError(const std::string& extra_job, const std::string& parameters, int line,
                       const std::string& key, const std::string& fragment) {

@@ -64,11 +64,11 @@ std::string MembersCsv(const Suite& suite);
 // rabbit/report/comparison.h), written by `rabbit run` when the suite has targets.
 std::string TargetsCsv(const Suite& suite);
 
-// Reads a suite file as far as can be done without its gait database, for a suite named at `key`
-// on `line` of `file` now and run later (a tuning job's suites and guards, a gait build's check,
-// which runs on the database once it is built): a readable TOML file that is a suite or a
-// scenario, not another kind of rabbit file. Throws InputError otherwise, given at that place and
-// followed by the suite file's own error.
+// Checks a suite file that `key` on `line` of `file` names, to be run later (a tuning job's suites
+// and guards; a gait build's check suite, which runs on the database once it is built), as far as
+// can be done without its gait database: a readable TOML file that is a suite or a scenario, not
+// another kind of rabbit file. Throws InputError otherwise, given at that place and followed by
+// the suite file's own error.
 void CheckNamedSuiteFile(const std::string& path, const std::string& file, int line,
                          const std::string& key);
 
