@@ -42,9 +42,10 @@ class TuneGuardsTest : public testing::ScratchDirTest {
     // A short walker scenario: 12 s of the ramp up (about 15 steps), two gains.
     Write("base.toml", "[params]\n\"simulation.duration\" = 12\n\"criteria.min_steps\" = 5\n");
   }
-  // A guard suite of one required scenario: the tuning scenario itself (ramp_up, under the job's
-  // base overlay, so its runs are the objective's runs) with `criteria` added; and an optional
-  // scenario that always fails (optional scenarios never break a guard).
+  // A guard suite of one required scenario: the tuning scenario itself (ramp_up with
+  // tune_ramp.toml's walker, under the job's base overlay, so its runs are the objective's runs)
+  // with `criteria` added; and an optional scenario that always fails (optional scenarios never
+  // break a guard).
   std::string Guard(const std::string& criteria, const std::string& name = "guard") {
     return Write(name + ".toml",
                  "[suite]\nname = \"" + name +
@@ -52,7 +53,7 @@ class TuneGuardsTest : public testing::ScratchDirTest {
                      "[defaults.simulation]\nduration = 36.0\nrecord_every = 10\n"
                      "[defaults.controller]\ntype = \"fuzzy_cmac\"\ndatabase = \"" +
                      kRoot +
-                     "/gaits\"\nwarmup_steps = 6\nk_p = 0.2\nk_v = 0.10\nfis_v_lead = 1.0\n"
+                     "/gaits\"\npreset = \"chapter\"\nwarmup_steps = 6\nk_p = 0.2\nk_v = 0.10\n"
                      "[[scenario]]\nname = \"ramp_up\"\n[scenario.criteria]\n" +
                      criteria +
                      "\n[scenario.velocity]\nprofile = \"steps\"\n"
@@ -137,7 +138,9 @@ TEST_F(TuneGuardsTest, NoCandidateKeepsAnImpossibleGuard) {
   Guard("min_distance_m = 1000");  // (min_steps: the base overlay sets it)
   std::string output;
   const std::string out = (dir_ / "out").string();
-  ASSERT_EQ(RunCliCode("tune " + Job("[\"guard.toml\"]") + " --out " + out + " -j 2", &output), 0)
+  // No result: exit 1, with the reason, also under -q.
+  ASSERT_EQ(RunCliCode("tune " + Job("[\"guard.toml\"]") + " -q --out " + out + " -j 2", &output),
+            1)
       << output;
   EXPECT_NE(output.find("no candidate kept the required scenarios of the guard suites"),
             std::string::npos)
@@ -156,21 +159,28 @@ TEST_F(TuneGuardsTest, NoCandidateKeepsAnImpossibleGuard) {
   EXPECT_NE(page.find("<tr class=\"guard\"><td><a href=\"#eval-5\">5</a>"), std::string::npos);
 }
 
+// A bound some candidates keep and some break (their L_step spreads run from 0.047 to 0.067 m).
+constexpr const char* kMidGuard = "max_l_step_spread_m = 0.055";
+
 TEST_F(TuneGuardsTest, ThreadsDoNotChangeTheGuardedLog) {
-  Guard("max_l_step_spread_m = 0.02");
+  Guard(kMidGuard);
   const std::string job = Job("[\"guard.toml\"]");
   const TuneResult a = Run(job, "one", 1), b = Run(job, "two", 2);
+  ASSERT_GE(a.best, 0);
   EXPECT_EQ(a.best, b.best);
   EXPECT_EQ(WithoutLastColumn(ReadText(dir_ / "one" / "evaluations.csv")),
             WithoutLastColumn(ReadText(dir_ / "two" / "evaluations.csv")));
   EXPECT_EQ(ReadText(dir_ / "one" / "runs.csv"), ReadText(dir_ / "two" / "runs.csv"));
-  int guarded = 0;
-  for (const Evaluation& e : a.evaluations) guarded += e.guards_run ? 1 : 0;
-  EXPECT_GE(guarded, 1);
+  int kept = 0, broken = 0;
+  for (const Evaluation& e : a.evaluations) {
+    if (e.guards_run) (e.guard_broken.empty() ? kept : broken) += 1;
+  }
+  EXPECT_GE(kept, 1);
+  EXPECT_GE(broken, 1);
 }
 
 TEST_F(TuneGuardsTest, AKilledGuardedJobResumesToTheSameLog) {
-  Guard("max_l_step_spread_m = 0.02");
+  Guard(kMidGuard);
   const std::string job = Job("[\"guard.toml\"]");
   const std::string whole = (dir_ / "whole").string(), cut = (dir_ / "cut").string();
   ASSERT_EQ(RunCliCode("tune " + job + " -q --no-html --out " + whole), 0);
@@ -184,6 +194,7 @@ TEST_F(TuneGuardsTest, AKilledGuardedJobResumesToTheSameLog) {
   EXPECT_NE(output.find("replayed   3 evaluations"), std::string::npos) << output;
   EXPECT_EQ(WithoutLastColumn(ReadText(fs::path(cut) / "evaluations.csv")),
             WithoutLastColumn(ReadText(fs::path(whole) / "evaluations.csv")));
+  ASSERT_TRUE(fs::exists(fs::path(whole) / "best.toml"));
   EXPECT_EQ(ReadText(fs::path(cut) / "best.toml"), ReadText(fs::path(whole) / "best.toml"));
   // A changed guard suite is another job: its fingerprint differs, the log is not resumed.
   Guard("max_l_step_spread_m = 0.03");

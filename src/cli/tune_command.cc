@@ -73,23 +73,29 @@ int RunTuneCommand(TuneArgs args) {
     std::fflush(stdout);
   };
   const TuneResult result = RunTune(job, args.options);
-  if (talk) {
-    if (result.replayed > 0) {
-      std::printf("replayed   %d evaluations from the log\n", result.replayed);
-    }
-    if (!result.complete) {
+  if (talk && result.replayed > 0) {
+    std::printf("replayed   %d evaluations from the log\n", result.replayed);
+  }
+  if (!result.complete) {
+    if (talk) {
       std::printf("shard      %s done: run `rabbit tune %s --resume` once every shard is done\n",
                   args.shard.c_str(), args.job.c_str());
-      return 0;
     }
-    const Evaluation& initial = result.evaluations[result.initial];
-    if (result.best < 0) {
+    return 0;
+  }
+  // A job with guards none of whose candidates kept them has no result: exit 1, as a required
+  // scenario that fails does for `rabbit run`, said even with --quiet (every rank knows the best).
+  if (result.best < 0) {
+    if (Ranks::root()) {
       std::fprintf(stderr,
                    "rabbit tune: no candidate kept the required scenarios of the guard suites "
                    "passing: no best.toml written (see %s/evaluations.csv, column guard_broken)\n",
                    result.out.c_str());
-      return 0;
     }
+    return 1;
+  }
+  if (talk) {
+    const Evaluation& initial = result.evaluations[result.initial];
     const Evaluation& b = result.evaluations[result.best];
     std::printf("best       objective %.6g at evaluation %d (initial %.6g, %+.1f%%)\n", b.objective,
                 b.index, initial.objective,
