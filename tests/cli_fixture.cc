@@ -57,6 +57,11 @@ std::string WithoutLastColumn(const std::string& text) {
 
 std::string ReadText(const fs::path& path) {
   std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    // A missing file is a failure, not "": two missing files must not compare equal.
+    ADD_FAILURE() << "cannot read " << path;
+    return std::string();
+  }
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();

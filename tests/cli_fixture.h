@@ -32,7 +32,7 @@ int RunCliCode(const std::string& args, std::string* output = nullptr);
 // A CSV text without its last column (e.g. wall_s: not deterministic).
 std::string WithoutLastColumn(const std::string& text);
 
-// A file's bytes ("" when it cannot be read).
+// A file's bytes; when it cannot be read, a test failure and "".
 std::string ReadText(const std::filesystem::path& path);
 
 // Writes `text` to `path`, creating its folder.

@@ -1,5 +1,7 @@
 #include "report_fixture.h"
 
+#include <gtest/gtest.h>
+
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -174,6 +176,11 @@ void WriteText(const std::string& path, const std::string& text) {
 
 std::string ReadText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
+  if (!in) {
+    // A missing file is a failure, not "": two missing files must not compare equal.
+    ADD_FAILURE() << "cannot read " << path;
+    return std::string();
+  }
   std::ostringstream text;
   text << in.rdbuf();
   return text.str();
