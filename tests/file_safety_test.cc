@@ -284,7 +284,10 @@ TEST_F(RefusalTest, EveryWriterRefusesWhatItDidNotMake) {
     fs::create_directories(dir_);
     row.setup(this);
     std::map<std::string, std::map<std::string, std::string>> before;
-    for (const std::string& p : row.untouched) before[p] = TreeSnapshot(Expand(p, dir_));
+    for (const std::string& p : row.untouched) {
+      before[p] = TreeSnapshot(Expand(p, dir_));
+      ASSERT_FALSE(before[p].empty()) << p << ": nothing there to keep";
+    }
     const CliRun run = RunCli(Expand(row.command, dir_));
     EXPECT_EQ(run.code, row.code) << run.output;
     EXPECT_NE(run.output.find(row.fragment), std::string::npos) << run.output;

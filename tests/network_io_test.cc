@@ -45,6 +45,7 @@ const std::map<std::string, std::string> kMetadata = {
 
 std::string ReadText(const std::string& path) {
   std::ifstream in(path);
+  if (!in) ADD_FAILURE() << "cannot read " << path;  // two missing files must not compare equal
   std::stringstream text;
   text << in.rdbuf();
   return text.str();

@@ -400,6 +400,9 @@ TEST(PushResponseTest, NeutralOnAnUndisturbedWalk) {
   const RunOutput on = RunScenario(s, "fuzzy_cmac", library.get());
   s.walker.recovery.response_dead = 0.0;
   const RunOutput off = RunScenario(s, "fuzzy_cmac", library.get());
+  // A walk, not two early falls that would compare equal.
+  ASSERT_EQ(on.sim.outcome, Outcome::kCompleted);
+  ASSERT_GT(on.metrics.steps, 10);
   EXPECT_EQ(on.sim.outcome, off.sim.outcome);
   EXPECT_EQ(on.metrics.steps, off.metrics.steps);
   EXPECT_EQ(on.metrics.distance, off.metrics.distance);

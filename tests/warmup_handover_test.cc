@@ -202,11 +202,14 @@ TEST_F(PushRulesHandoverTest, TheResponsesRuleStepsEndWithinReachOfTheObstacle) 
   ASSERT_GT(within, 0.0);
   const RunOutput off = Run(true, "end_warmup_within = 0.0\n");
   // The start's warm-up never has the obstacle within reach: the key cannot act there.
+  int warmup_steps = 0;
   for (const StepRow& row : off.steps) {
     if (row.warmup) {
+      ++warmup_steps;
       EXPECT_GT(kObstacleX - row.step.x, within + 0.01);
     }
   }
+  EXPECT_GT(warmup_steps, 0);
   // With the push, the walks part: the touchdown before the first step that differs landed
   // within reach of the obstacle (where the response's rules handed back to the Fuzzy-CMAC).
   const size_t i = FirstDifference(on, off);
