@@ -22,6 +22,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_fixture.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/io/error.h"
 #include "rabbit/learn/ts_fis.h"
@@ -35,12 +36,7 @@ constexpr double kNaN = std::numeric_limits<double>::quiet_NaN();
 const std::string kShippedFll = std::string(RABBIT_SOURCE_DIR) + "/gaits/gait_pattern.fll";
 const std::string kReferenceIndex = std::string(RABBIT_SOURCE_DIR) + "/gaits/reference/index.csv";
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using testing::ReadText;
 
 // The measured velocities of the shipped speed gaits (the gait pattern's; library gaits take no
 // part in it).

@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "cli_fixture.h"
 #include "rabbit/io/error.h"
 
 namespace rabbit {
@@ -43,13 +44,7 @@ Cmac TrainedCmac(int hash_table_size) {
 const std::map<std::string, std::string> kMetadata = {
     {"gait", "vm_0.60"}, {"output", "q_i1_rad"}, {"note", "trained = yes, 3 epochs"}};
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path);
-  if (!in) ADD_FAILURE() << "cannot read " << path;  // two missing files must not compare equal
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+using testing::ReadText;
 
 class NetworkIoTest : public ::testing::Test {
  protected:

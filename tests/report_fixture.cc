@@ -1,7 +1,5 @@
 #include "report_fixture.h"
 
-#include <gtest/gtest.h>
-
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -9,6 +7,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "cli_fixture.h"
 #include "rabbit/gait/gait_database.h"
 #include "rabbit/gait/gait_walk.h"
 #include "rabbit/scenario/trajectory_csv.h"
@@ -174,17 +173,7 @@ void WriteText(const std::string& path, const std::string& text) {
   if (!out) throw std::runtime_error("cannot write " + path);
 }
 
-std::string ReadText(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) {
-    // A missing file is a failure, not "": two missing files must not compare equal.
-    ADD_FAILURE() << "cannot read " << path;
-    return std::string();
-  }
-  std::ostringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
+std::string ReadText(const std::string& path) { return ReadText(fs::path(path)); }
 
 int Count(const std::string& text, const std::string& needle) {
   int n = 0;

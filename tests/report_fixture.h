@@ -22,7 +22,7 @@ ReportFixture WriteReportFixture(const std::string& dir, double duration = 12.0)
 
 // Writes text to path (creating directories).
 void WriteText(const std::string& path, const std::string& text);
-// A file's bytes; when it cannot be read, a test failure and "".
+// A file's bytes; when it cannot be read, a test failure and "" (cli_fixture.h's ReadText).
 std::string ReadText(const std::string& path);
 // Occurrences of needle in text.
 int Count(const std::string& text, const std::string& needle);

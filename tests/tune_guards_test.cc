@@ -162,7 +162,7 @@ TEST_F(TuneGuardsTest, NoCandidateKeepsAnImpossibleGuard) {
 
 // A bound some candidates keep and some break (their L_step spreads run from 0.047 to 0.067 m).
 constexpr double kMidBound = 0.055;
-constexpr const char* kMidGuard = "max_l_step_spread_m = 0.055";
+const std::string kMidGuard = "max_l_step_spread_m = " + std::to_string(kMidBound);
 
 TEST_F(TuneGuardsTest, ThreadsDoNotChangeTheGuardedLog) {
   Guard(kMidGuard);

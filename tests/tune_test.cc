@@ -58,7 +58,7 @@ class TuneTest : public testing::ScratchDirTest {
                                   "lower = 0.0\nupper = 0.4\n"
                                 : parameters));
   }
-  // The error LoadTuneJob gives for the job at `path` (a failure, and an empty error, if none).
+  // The error LoadTuneJob gives for the job at `path` (if none, a test failure and a placeholder).
   static InputError LoadError(const std::string& path) {
     try {
       LoadTuneJob(path);
