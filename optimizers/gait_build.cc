@@ -40,6 +40,12 @@ constexpr double kAcceptedStepSpread = 0.01;       // m
 constexpr double kAcceptedStepLengthError = 0.03;  // m
 // The staging folder inside the database: what a build makes before it replaces the files.
 constexpr const char* kStaging = ".build";
+// In the staging folder until its manifest is written: the gaits synthesized for it, each with
+// its inputs' and its file's hashes, so that a build stopped after the synthesis leaves them to
+// the next build of the folder.
+constexpr const char* kSynthesizedFile = "synthesized.csv";
+constexpr const char* kSynthesizedHeader =
+    "# format = rabbit-gait-synthesized/1\nname,inputs_sha256,sha256\n";
 
 std::string ReadBytes(const std::string& path) { return ReadBoundedFile(path, kGaitFileLimits); }
 
@@ -79,9 +85,47 @@ void Commit(const fs::path& out, const std::set<std::string>& old_files) {
   fs::remove_all(staging);
 }
 
+// A gait an unfinished build synthesized: its inputs' hash and its file.
+struct SynthesizedGait {
+  std::string inputs_sha256;
+  std::string text;
+};
+
+// The gaits an incomplete staging folder's list names whose files are there with their hashes.
+// The list is the build's own scratch: a row or file that does not agree is skipped (its gait is
+// synthesized again), never an error.
+std::map<std::string, SynthesizedGait> ReadSynthesized(const fs::path& staging) {
+  std::map<std::string, SynthesizedGait> gaits;
+  const fs::path list = staging / kSynthesizedFile;
+  if (!fs::exists(list)) return gaits;
+  try {
+    std::istringstream in(ReadBytes(list.string()));
+    std::string line;
+    while (std::getline(in, line)) {
+      if (line.empty() || line[0] == '#' || line == "name,inputs_sha256,sha256") continue;
+      std::vector<std::string> fields;
+      std::istringstream row(line);
+      for (std::string f; std::getline(row, f, ',');) fields.push_back(f);
+      if (fields.size() != 3 || fields[0].empty() || fields[0].find('/') != std::string::npos) {
+        continue;
+      }
+      const fs::path file = staging / kReferenceDir / (fields[0] + ".csv");
+      if (!fs::exists(file)) continue;
+      std::string text = ReadBytes(file.string());
+      if (Sha256Hex(text) != fields[2]) continue;
+      gaits[fields[0]] = {fields[1], std::move(text)};
+    }
+  } catch (const std::exception&) {
+    gaits.clear();  // an unreadable list: every gait is synthesized again
+  }
+  return gaits;
+}
+
 // The state of --out before a build: its manifest (an existing database) or none (new or empty).
-// A staging folder left by an interrupted build is finished (complete) or dropped (incomplete).
-bool InspectOut(const fs::path& out, Manifest* manifest) {
+// A staging folder left by an interrupted build is finished (complete) or dropped (incomplete);
+// the gaits an incomplete one lists as synthesized go to *synthesized first.
+bool InspectOut(const fs::path& out, Manifest* manifest,
+                std::map<std::string, SynthesizedGait>* synthesized) {
   const fs::path staging = out / kStaging;
   if (fs::exists(staging / kManifestFile) && Ranks::root()) {
     std::set<std::string> old_files;
@@ -99,7 +143,10 @@ bool InspectOut(const fs::path& out, Manifest* manifest) {
     for (const fs::directory_entry& e : fs::directory_iterator(out)) {
       alone = alone && e.path().filename() == kStaging;
     }
-    if (alone || fs::exists(out / kManifestFile)) fs::remove_all(staging);
+    if (alone || fs::exists(out / kManifestFile)) {
+      *synthesized = ReadSynthesized(staging);
+      fs::remove_all(staging);
+    }
   }
   if (!fs::exists(out)) return false;
   if (!fs::is_directory(out)) {
@@ -300,13 +347,22 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
   };
   Manifest old;
   bool existing = false;
+  std::map<std::string, SynthesizedGait> synthesized;  // the files on rank 0 only
   // Rank 0 first (it finishes a commit a killed build left), then the others read what it left.
   RunAgreed([&] {
-    if (Ranks::root()) existing = InspectOut(out, &old);
+    if (Ranks::root()) existing = InspectOut(out, &old, &synthesized);
   });
   RunAgreed([&] {
-    if (!Ranks::root()) existing = InspectOut(out, &old);
+    if (!Ranks::root()) existing = InspectOut(out, &old, &synthesized);
   });
+  {  // every rank deals the same targets: the names and inputs of rank 0's synthesized gaits
+    std::string names;
+    for (const auto& [name, gait] : synthesized) names += name + " " + gait.inputs_sha256 + "\n";
+    std::istringstream in(Ranks::Broadcast(names));
+    for (std::string name, inputs; in >> name >> inputs;) {
+      if (synthesized.count(name) == 0) synthesized[name] = {inputs, ""};
+    }
+  }
   const std::string model_sha = ModelSha(targets);
   const std::string simulator_sha = Sha256Hex(SimulatorSettingsText());
   const std::string version = std::string("rabbit ") + RABBIT_VERSION;
@@ -323,20 +379,29 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
   GaitBuildResult result;
   std::vector<size_t> todo;
   std::vector<char> kept(targets.gaits.size(), 0);
+  std::vector<char> reused(targets.gaits.size(), 0);  // synthesized by an unfinished build
   for (size_t i = 0; i < targets.gaits.size(); ++i) {
-    const auto found = old_gaits.find(targets.gaits[i].name);
-    kept[i] =
-        existing && found != old_gaits.end() && found->second->inputs_sha256 == inputs[i] &&
-        found->second->file == std::string(kReferenceDir) + "/" + targets.gaits[i].name + ".csv";
+    const std::string& name = targets.gaits[i].name;
+    const auto found = old_gaits.find(name);
+    kept[i] = existing && found != old_gaits.end() && found->second->inputs_sha256 == inputs[i] &&
+              found->second->file == std::string(kReferenceDir) + "/" + name + ".csv";
+    const auto left = synthesized.find(name);
+    reused[i] = !kept[i] && left != synthesized.end() && left->second.inputs_sha256 == inputs[i];
     if (kept[i]) {
-      result.kept.push_back(targets.gaits[i].name);
+      result.kept.push_back(name);
+    } else if (reused[i]) {
+      result.reused.push_back(name);
     } else {
       todo.push_back(i);
     }
   }
   log("gaits build: " + std::to_string(targets.gaits.size()) + " targets, " +
-      std::to_string(result.kept.size()) + " kept, " + std::to_string(todo.size()) +
-      " to synthesize (" + std::to_string(Ranks::size()) + " rank(s))");
+      std::to_string(result.kept.size()) + " kept, " +
+      (result.reused.empty()
+           ? std::string()
+           : std::to_string(result.reused.size()) + " synthesized by an unfinished build, ") +
+      std::to_string(todo.size()) + " to synthesize (" + std::to_string(Ranks::size()) +
+      " rank(s))");
   // Synthesis: item k of todo on rank k mod size, on this rank's threads.
   std::vector<size_t> mine;
   for (size_t k = 0; k < todo.size(); ++k) {
@@ -425,6 +490,9 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
       const std::string file = std::string(kReferenceDir) + "/" + g.name + ".csv";
       if (kept[i]) {
         WriteBytes((staging / file).string(), ReadBytes((out / file).string()));
+      } else if (reused[i]) {
+        WriteBytes((staging / file).string(), synthesized.at(g.name).text);
+        result.built.push_back(g.name);
       } else {
         const SynthesisOutcome* o = by_index.at(i);
         if (!o->met) {
@@ -437,6 +505,16 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
       records.push_back(ReadGaitFile((staging / file).string()));
       walker[g.name] = g.walker;
       inputs_of[g.name] = inputs[i];
+    }
+    // What the steps below may still stop on (a check suite's settings, the speed gaits' measured
+    // order) leaves the synthesis to the next build.
+    {
+      std::string list = kSynthesizedHeader;
+      for (const std::string& name : result.built) {
+        list += name + "," + inputs_of.at(name) + "," +
+                Sha256OfFile((staging / kReferenceDir / (name + ".csv")).string()) + "\n";
+      }
+      WriteBytes((staging / kSynthesizedFile).string(), list);
     }
     const auto speed_gaits = std::count_if(records.begin(), records.end(), [](const GaitRecord& g) {
       return g.role == GaitRole::kSpeed;
@@ -490,6 +568,7 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
       });
       std::sort(result.check_failures.begin(), result.check_failures.end());
     }
+    fs::remove(staging / kSynthesizedFile);  // not part of the database
     Manifest manifest;
     manifest.generator = version;
     manifest.model_sha256 = model_sha;
@@ -520,6 +599,11 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
+}
+
+bool HasStagedSynthesis(const std::string& out) {
+  std::error_code ec;
+  return fs::exists(fs::path(out) / kStaging / kSynthesizedFile, ec);
 }
 
 }  // namespace rabbit

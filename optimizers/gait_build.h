@@ -39,7 +39,13 @@ struct GaitBuildOptions {
 };
 
 struct GaitBuildResult {
+  // built: the gaits new to the database; kept: taken from it unchanged (see "Resume" in
+  // docs/gait-database.md); missed: synthesized without meeting their criteria.
   std::vector<std::string> built, kept, missed, check_failures;
+  // Of `built`, the gaits an earlier build of the same folder synthesized from the same inputs
+  // and stopped before its commit (an error or a kill after the synthesis): taken from its
+  // staging folder instead of synthesized again.
+  std::vector<std::string> reused;
   // Fewer than 2 speed gaits met their criteria: nothing was written.
   bool too_few_speed_gaits = false;
   long walks = 0;  // simulations of the synthesis, over all ranks
@@ -55,6 +61,10 @@ struct GaitBuildResult {
 // Throws InputError (nothing written) when `out` exists and is neither empty nor a database, or is
 // a database whose manifest, index and files disagree. Every rank calls it (a collective).
 GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOptions& options);
+
+// Whether `out` holds the gaits of a build that stopped after its synthesis (an error or a kill
+// before its commit), which the next build of `out` takes where their inputs are unchanged.
+bool HasStagedSynthesis(const std::string& out);
 
 }  // namespace rabbit
 

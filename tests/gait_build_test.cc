@@ -1,7 +1,8 @@
 // `rabbit gaits build` (optimizers/gait_build.h): the shipped database is what the build makes from
 // gaits/targets.toml (every file, byte for byte, and its manifest agrees with it), the search from
 // Table 2 finds the two cheapest shipped gaits again byte for byte, the same bytes on 1 and 2
-// threads, resume (an unchanged gait kept, a changed one rebuilt),
+// threads, resume (an unchanged gait kept, a changed one rebuilt; the gaits of a build stopped
+// after its synthesis taken by the next),
 // a target that misses its criteria (nothing written for it), and the bad inputs: targets with
 // the same name or (v_m, l_step), impossible bounds, unknown keys, reserved names, an --out that
 // is not a database, a database whose manifest and files disagree (InputError, nothing written).
@@ -156,6 +157,58 @@ TEST_F(GaitBuildTest, ResumeKeepsUnchangedGaitsAndRebuildsChangedOnes) {
   again = Build(targets2, "db", 1);
   EXPECT_EQ(again.built, std::vector<std::string>{"vm_0.40"});
   EXPECT_EQ(again.kept, std::vector<std::string>{"vm_0.30"});
+}
+
+// A build that stops after its synthesis (here on a check suite whose scenario has a misspelt
+// key, which only loading it on the new database finds) leaves the synthesized gaits in its
+// staging folder; the next build of the folder takes those whose inputs and files are unchanged
+// instead of synthesizing them, and writes the bytes of a build that never stopped.
+TEST_F(GaitBuildTest, ABuildStoppedAfterItsSynthesisLeavesItsGaitsToTheNext) {
+  Write("check.toml", "[suite]\nname = \"s\"\n[[scenario]]\nname = \"x\"\nduraton = 5\n");
+  const std::string checked =
+      Write("checked.toml", "[check]\nsuite = \"check.toml\"\n" + std::string(kTwoGaits));
+  EXPECT_THROW(Build(checked, "db", 1), InputError);
+  EXPECT_TRUE(fs::exists(dir_ / "db" / ".build" / "synthesized.csv"));
+  EXPECT_FALSE(fs::exists(dir_ / "db" / "manifest.csv"));
+  const std::string targets = Write("targets.toml", kTwoGaits);
+  const GaitBuildResult again = Build(targets, "db", 1);
+  EXPECT_EQ(again.exit_code(), 0);
+  EXPECT_EQ(again.reused, (std::vector<std::string>{"vm_0.30", "vm_0.40"}));
+  EXPECT_EQ(again.built, again.reused);
+  EXPECT_EQ(again.walks, 0);
+  EXPECT_FALSE(fs::exists(dir_ / "db" / ".build"));
+  Build(targets, "clean", 1);
+  for (const auto& e : fs::recursive_directory_iterator(dir_ / "clean")) {
+    if (!e.is_regular_file()) continue;
+    const fs::path rel = fs::relative(e.path(), dir_ / "clean");
+    EXPECT_EQ(ReadText(dir_ / "db" / rel), ReadText(e.path())) << rel;
+  }
+  // A staged gait file that no longer has its listed hash is synthesized again, as is a gait
+  // whose inputs changed (its seed); the other is taken.
+  EXPECT_THROW(Build(checked, "db2", 1), InputError);
+  std::ofstream(dir_ / "db2" / ".build" / "reference" / "vm_0.30.csv", std::ios::app) << "\n";
+  GaitBuildResult r = Build(targets, "db2", 1);
+  EXPECT_EQ(r.reused, std::vector<std::string>{"vm_0.40"});
+  EXPECT_EQ(r.built, (std::vector<std::string>{"vm_0.30", "vm_0.40"}));
+  EXPECT_GT(r.walks, 0);
+  EXPECT_EQ(ReadText(dir_ / "db2" / "reference" / "vm_0.30.csv"),
+            ReadText(dir_ / "clean" / "reference" / "vm_0.30.csv"));
+  EXPECT_THROW(Build(checked, "db3", 1), InputError);
+  r = Build(Write("seeded.toml", std::string(kTwoGaits) + "seed = 2\n"), "db3", 1);
+  EXPECT_EQ(r.reused, std::vector<std::string>{"vm_0.30"});
+  // The command says where the gaits stay, beside the error (exit 2).
+  const fs::path err = dir_ / "err.txt";
+  const std::string command = std::string(RABBIT_CLI_PATH) + " gaits build " + checked + " --out " +
+                              (dir_ / "cli").string() + " -q -j1 2> " + err.string();
+  const int status = std::system(command.c_str());
+  ASSERT_TRUE(WIFEXITED(status));
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  const std::string message = ReadText(err);
+  EXPECT_NE(
+      message.find("the gaits synthesized so far stay in " + (dir_ / "cli").string() + "/.build"),
+      std::string::npos)
+      << message;
+  EXPECT_NE(message.find("check.toml:3"), std::string::npos) << message;
 }
 
 TEST_F(GaitBuildTest, MissedTargetExitsOneAndWritesNothingForIt) {

@@ -97,7 +97,18 @@ int RunBuild(const BuildArgs& a) {
       std::fflush(stdout);
     };
   }
-  const GaitBuildResult r = BuildGaitDatabase(targets, options);
+  GaitBuildResult r;
+  try {
+    r = BuildGaitDatabase(targets, options);
+  } catch (...) {
+    if (Ranks::root() && HasStagedSynthesis(a.out)) {
+      std::fprintf(stderr,
+                   "rabbit gaits build: the gaits synthesized so far stay in %s/.build; the next "
+                   "build of %s takes those whose targets are unchanged\n",
+                   a.out.c_str(), a.out.c_str());
+    }
+    throw;
+  }
   if (!Ranks::root()) return r.exit_code();
   for (const std::string& name : r.missed) {
     std::fprintf(stderr,
@@ -114,12 +125,16 @@ int RunBuild(const BuildArgs& a) {
                  a.out.c_str());
   }
   if (!a.quiet) {
+    const std::string reused =
+        r.reused.empty() ? ""
+                         : " (" + std::to_string(r.reused.size()) +
+                               " of them synthesized by an unfinished build of this folder)";
     std::printf(
-        "gaits build: %zu built, %zu kept, %zu missed; %ld walks in %.1f s (%.1f walks/s); "
+        "gaits build: %zu built%s, %zu kept, %zu missed; %ld walks in %.1f s (%.1f walks/s); "
         "%.1f s wall; %s %s\n",
-        r.built.size(), r.kept.size(), r.missed.size(), r.walks, r.synthesis_seconds,
-        static_cast<double>(r.walks) / std::max(r.synthesis_seconds, 1e-9), r.wall_seconds,
-        r.too_few_speed_gaits ? "nothing written to" : "wrote", a.out.c_str());
+        r.built.size(), reused.c_str(), r.kept.size(), r.missed.size(), r.walks,
+        r.synthesis_seconds, static_cast<double>(r.walks) / std::max(r.synthesis_seconds, 1e-9),
+        r.wall_seconds, r.too_few_speed_gaits ? "nothing written to" : "wrote", a.out.c_str());
   }
   return r.exit_code();
 }
