@@ -106,7 +106,7 @@ TEST(ApproachWatchTest, OffNothingIsDisturbed) {
 
 TEST(ApproachWatchTest, KeyDefaultsAndValidation) {
   EXPECT_EQ(StepPlannerParams{}.push_dead, 0.0);
-  EXPECT_EQ(PresetWalkerParams(WalkerPreset::kAdaptive).planner.push_dead, 0.3);
+  EXPECT_EQ(PresetWalkerParams(WalkerPreset::kAdaptive).planner.push_dead, 0.0);  // off
   EXPECT_FALSE(PresetWalkerParams(WalkerPreset::kChapter).planner.enabled);
   StepPlannerParams p;
   std::string error;
