@@ -143,7 +143,8 @@ TEST_F(TuneGuardsTest, NoCandidateKeepsAnImpossibleGuard) {
   ASSERT_EQ(RunCliCode("tune " + Job("[\"guard.toml\"]") + " -q --out " + out + " -j 2", &output),
             1)
       << output;
-  EXPECT_NE(output.find("no candidate kept the required scenarios of the guard suites"),
+  EXPECT_NE(output.find("no candidate kept the required scenarios of the guard suites passing "
+                        "(6 broke a guard, 0 invalid)"),
             std::string::npos)
       << output;
   EXPECT_FALSE(fs::exists(fs::path(out) / "best.toml"));
@@ -158,6 +159,30 @@ TEST_F(TuneGuardsTest, NoCandidateKeepsAnImpossibleGuard) {
   const std::string page = ReadText(fs::path(out) / "index.html");
   EXPECT_NE(page.find("no candidate kept them"), std::string::npos);
   EXPECT_NE(page.find("<tr class=\"guard\"><td><a href=\"#eval-5\">5</a>"), std::string::npos);
+}
+
+// A guarded job whose every candidate is invalid (an rtol the simulator refuses) never reaches
+// the guards: exit 1, and the message counts them as invalid, not as guard breakers.
+TEST_F(TuneGuardsTest, AJobOfInvalidCandidatesSaysSo) {
+  const std::string job =
+      Write("invalid.toml", "[job]\nsuites = [\"" + kRoot +
+                                "/scenarios/tune_ramp.toml\"]\nfilter = \"^ramp_up$\"\n"
+                                "params = \"base.toml\"\nmax_evaluations = 3\nalgorithm = "
+                                "\"sbplx\"\nguards = [\"" +
+                                Guard("min_steps = 5") +
+                                "\"]\n[objective]\nspeed_error = 1.0\n[[parameter]]\npath = "
+                                "\"simulation.rtol\"\nlower = -1\nupper = -0.1\ninitial = -0.5\n");
+  std::string output;
+  const std::string out = (dir_ / "out").string();
+  ASSERT_EQ(RunCliCode("tune " + job + " -q --out " + out, &output), 1) << output;
+  EXPECT_NE(output.find("(0 broke a guard, 3 invalid)"), std::string::npos) << output;
+  EXPECT_FALSE(fs::exists(fs::path(out) / "best.toml"));
+  const CsvTable log = CsvTable::Read(out + "/evaluations.csv");
+  ASSERT_EQ(log.num_rows(), 3u);
+  for (size_t r = 0; r < log.num_rows(); ++r) {
+    EXPECT_EQ(log.Integer(r, log.Column("guards_run")), 0) << r;
+    EXPECT_NE(log.Text(r, log.Column("error")).find("rtol must be in (0, 1)"), std::string::npos);
+  }
 }
 
 // A bound some candidates keep and some break (their L_step spreads run from 0.047 to 0.067 m).

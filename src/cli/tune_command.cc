@@ -87,10 +87,16 @@ int RunTuneCommand(TuneArgs args) {
   // scenario that fails does for `rabbit run`, said even with --quiet (every rank knows the best).
   if (result.best < 0) {
     if (Ranks::root()) {
+      // Why: a candidate that broke a guard, or one that never reached them (invalid settings,
+      // or an objective run that could not be walked).
+      int broke = 0;
+      for (const Evaluation& e : result.evaluations) broke += e.guards_run ? 1 : 0;
+      const int invalid = static_cast<int>(result.evaluations.size()) - broke;
       std::fprintf(stderr,
                    "rabbit tune: no candidate kept the required scenarios of the guard suites "
-                   "passing: no best.toml written (see %s/evaluations.csv, column guard_broken)\n",
-                   result.out.c_str());
+                   "passing (%d broke a guard, %d invalid): no best.toml written (see "
+                   "%s/evaluations.csv, columns guard_broken and error)\n",
+                   broke, invalid, result.out.c_str());
     }
     return 1;
   }
