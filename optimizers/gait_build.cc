@@ -515,6 +515,7 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
                 Sha256OfFile((staging / kReferenceDir / (name + ".csv")).string()) + "\n";
       }
       WriteBytes((staging / kSynthesizedFile).string(), list);
+      if (options.staged != nullptr) *options.staged = true;
     }
     const auto speed_gaits = std::count_if(records.begin(), records.end(), [](const GaitRecord& g) {
       return g.role == GaitRole::kSpeed;
@@ -569,6 +570,7 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
       std::sort(result.check_failures.begin(), result.check_failures.end());
     }
     fs::remove(staging / kSynthesizedFile);  // not part of the database
+    if (options.staged != nullptr) *options.staged = false;
     Manifest manifest;
     manifest.generator = version;
     manifest.model_sha256 = model_sha;
@@ -599,11 +601,6 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
   result.wall_seconds =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
-}
-
-bool HasStagedSynthesis(const std::string& out) {
-  std::error_code ec;
-  return fs::exists(fs::path(out) / kStaging / kSynthesizedFile, ec);
 }
 
 }  // namespace rabbit

@@ -36,6 +36,10 @@ struct GaitBuildOptions {
   int threads = 0;  // per rank (0: all cores)
   NetworkTrainingOptions training;
   std::function<void(const std::string&)> log;  // progress lines (rank 0 only); may be empty
+  // Set true (rank 0) once this build has left its synthesized gaits in the staging folder for
+  // the next build (docs/gait-database.md, "Resume"), so that a caller catching a later error
+  // can say so; false again when the build drops the list, before it writes its manifest.
+  bool* staged = nullptr;
 };
 
 struct GaitBuildResult {
@@ -61,10 +65,6 @@ struct GaitBuildResult {
 // Throws InputError (nothing written) when `out` exists and is neither empty nor a database, or is
 // a database whose manifest, index and files disagree. Every rank calls it (a collective).
 GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOptions& options);
-
-// Whether `out` holds the gaits of a build that stopped after its synthesis (an error or a kill
-// before its commit), which the next build of `out` takes where their inputs are unchanged.
-bool HasStagedSynthesis(const std::string& out);
 
 }  // namespace rabbit
 

@@ -209,6 +209,17 @@ TEST_F(GaitBuildTest, ABuildStoppedAfterItsSynthesisLeavesItsGaitsToTheNext) {
       std::string::npos)
       << message;
   EXPECT_NE(message.find("check.toml:3"), std::string::npos) << message;
+  // A folder refused before any work says nothing of gaits, whatever a .build in it holds.
+  fs::create_directories(dir_ / "foreign" / ".build");
+  std::ofstream(dir_ / "foreign" / "notes.txt") << "mine";
+  std::ofstream(dir_ / "foreign" / ".build" / "synthesized.csv") << "x";
+  const std::string refused = std::string(RABBIT_CLI_PATH) + " gaits build " + targets + " --out " +
+                              (dir_ / "foreign").string() + " -q 2> " + err.string();
+  const int code = std::system(refused.c_str());
+  ASSERT_TRUE(WIFEXITED(code));
+  EXPECT_EQ(WEXITSTATUS(code), 2);
+  EXPECT_EQ(ReadText(err).find("stay in"), std::string::npos) << ReadText(err);
+  EXPECT_EQ(ReadText(dir_ / "foreign" / "notes.txt"), "mine");
 }
 
 TEST_F(GaitBuildTest, MissedTargetExitsOneAndWritesNothingForIt) {

@@ -97,11 +97,13 @@ int RunBuild(const BuildArgs& a) {
       std::fflush(stdout);
     };
   }
+  bool staged = false;
+  options.staged = &staged;
   GaitBuildResult r;
   try {
     r = BuildGaitDatabase(targets, options);
   } catch (...) {
-    if (Ranks::root() && HasStagedSynthesis(a.out)) {
+    if (staged) {
       std::fprintf(stderr,
                    "rabbit gaits build: the gaits synthesized so far stay in %s/.build; the next "
                    "build of %s takes those whose targets are unchanged\n",
