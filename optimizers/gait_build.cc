@@ -25,6 +25,7 @@
 #include "rabbit/scenario/batch.h"
 #include "rabbit/scenario/params.h"
 #include "rabbit/scenario/ranks.h"
+#include "rabbit/scenario/scenario.h"
 #include "rabbit/scenario/suite.h"
 
 namespace rabbit {
@@ -106,7 +107,10 @@ std::map<std::string, SynthesizedGait> ReadSynthesized(const fs::path& staging) 
       std::vector<std::string> fields;
       std::istringstream row(line);
       for (std::string f; std::getline(row, f, ',');) fields.push_back(f);
-      if (fields.size() != 3 || fields[0].empty() || fields[0].find('/') != std::string::npos) {
+      // A gait's name as the targets allow it (IsSafeName: no separator, no space), so the names
+      // travel to the other ranks intact.
+      if (fields.size() != 3 || !IsSafeName(fields[0]) || fields[1].empty() ||
+          fields[1].find(' ') != std::string::npos) {
         continue;
       }
       const fs::path file = staging / kReferenceDir / (fields[0] + ".csv");

@@ -87,8 +87,9 @@ int RunTuneCommand(TuneArgs args) {
   // scenario that fails does for `rabbit run`, said even with --quiet (every rank knows the best).
   if (result.best < 0) {
     if (Ranks::root()) {
-      // Why: a candidate that broke a guard, or one that never reached them (invalid settings,
-      // or an objective run that could not be walked).
+      // Why. With no best, every valid candidate beat its search's best eligible objective (none
+      // yet) and ran the guards, so each that ran them broke one; the others were invalid
+      // (settings refused, or an objective that could not be walked) and never reached them.
       int broke = 0;
       for (const Evaluation& e : result.evaluations) broke += e.guards_run ? 1 : 0;
       const int invalid = static_cast<int>(result.evaluations.size()) - broke;
