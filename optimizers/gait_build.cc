@@ -14,6 +14,7 @@
 #include <thread>
 #include <tuple>
 
+#include "gait_build_staging.h"
 #include "gait_manifest.h"
 #include "rabbit/gait/database_layout.h"
 #include "rabbit/gait/walker_settings.h"
@@ -39,15 +40,6 @@ constexpr int kRecordSteps = 30;                   // steps the recorded walk mu
 constexpr double kAcceptedVelocityError = 0.03;    // m/s
 constexpr double kAcceptedStepSpread = 0.01;       // m
 constexpr double kAcceptedStepLengthError = 0.03;  // m
-// The staging folder inside the database: what a build makes before it replaces the files.
-constexpr const char* kStaging = ".build";
-// In the staging folder until its manifest is written: the gaits synthesized for it, each with
-// its inputs' and its file's hashes, so that a build stopped after the synthesis leaves them to
-// the next build of the folder.
-constexpr const char* kSynthesizedFile = "synthesized.csv";
-constexpr const char* kSynthesizedHeader =
-    "# format = rabbit-gait-synthesized/1\nname,inputs_sha256,sha256\n";
-
 std::string ReadBytes(const std::string& path) { return ReadBoundedFile(path, kGaitFileLimits); }
 
 void WriteBytes(const std::string& path, const std::string& bytes) {
@@ -62,125 +54,6 @@ std::vector<std::string> FilesBelow(const fs::path& root) {
   }
   std::sort(files.begin(), files.end());
   return files;
-}
-
-// Moves a finished staging folder's files into the database, removes the files the old manifest
-// listed that the new one does not, then moves the manifest (the commit is finished again from
-// the staging folder's manifest until then), then removes the staging folder.
-void Commit(const fs::path& out, const std::set<std::string>& old_files) {
-  const fs::path staging = out / kStaging;
-  const Manifest fresh = ReadManifest((staging / kManifestFile).string());
-  std::set<std::string> now;
-  for (const ManifestRow& r : fresh.rows) {
-    now.insert(r.file);
-    const fs::path from = staging / r.file;
-    if (!fs::exists(from)) continue;  // moved by an interrupted commit already
-    fs::create_directories((out / r.file).parent_path());
-    fs::rename(from, out / r.file);
-    TestKillPoint("gaits-build-swapping");
-  }
-  for (const std::string& f : old_files) {
-    if (now.count(f) == 0) fs::remove(out / f);
-  }
-  fs::rename(staging / kManifestFile, out / kManifestFile);
-  fs::remove_all(staging);
-}
-
-// A gait an unfinished build synthesized: its inputs' hash and its file.
-struct SynthesizedGait {
-  std::string inputs_sha256;
-  std::string text;
-};
-
-// The gaits an incomplete staging folder's list names whose files are there with their hashes.
-// The list is the build's own scratch: a row or file that does not agree is skipped (its gait is
-// synthesized again), never an error.
-std::map<std::string, SynthesizedGait> ReadSynthesized(const fs::path& staging) {
-  std::map<std::string, SynthesizedGait> gaits;
-  const fs::path list = staging / kSynthesizedFile;
-  if (!fs::exists(list)) return gaits;
-  try {
-    std::istringstream in(ReadBytes(list.string()));
-    std::string line;
-    while (std::getline(in, line)) {
-      if (line.empty() || line[0] == '#' || line == "name,inputs_sha256,sha256") continue;
-      std::vector<std::string> fields;
-      std::istringstream row(line);
-      for (std::string f; std::getline(row, f, ',');) fields.push_back(f);
-      // A gait's name as the targets allow it (IsSafeName: no separator, no space), so the names
-      // travel to the other ranks intact.
-      if (fields.size() != 3 || !IsSafeName(fields[0]) || fields[1].empty() ||
-          fields[1].find(' ') != std::string::npos) {
-        continue;
-      }
-      const fs::path file = staging / kReferenceDir / (fields[0] + ".csv");
-      if (!fs::exists(file)) continue;
-      std::string text = ReadBytes(file.string());
-      if (Sha256Hex(text) != fields[2]) continue;
-      gaits[fields[0]] = {fields[1], std::move(text)};
-    }
-  } catch (const std::exception&) {
-    gaits.clear();  // an unreadable list: every gait is synthesized again
-  }
-  return gaits;
-}
-
-// The state of --out before a build: its manifest (an existing database) or none (new or empty).
-// A staging folder left by an interrupted build is finished (complete) or dropped (incomplete);
-// the gaits an incomplete one lists as synthesized go to *synthesized first.
-bool InspectOut(const fs::path& out, Manifest* manifest,
-                std::map<std::string, SynthesizedGait>* synthesized) {
-  const fs::path staging = out / kStaging;
-  if (fs::exists(staging / kManifestFile) && Ranks::root()) {
-    std::set<std::string> old_files;
-    if (fs::exists(out / kManifestFile)) {
-      for (const ManifestRow& r : ReadManifest((out / kManifestFile).string()).rows) {
-        old_files.insert(r.file);
-      }
-    }
-    Commit(out, old_files);
-  }
-  if (fs::exists(staging) && Ranks::root()) {
-    // An incomplete staging folder of an interrupted build: dropped when the folder is a database
-    // or holds nothing else (else it is not ours, and the folder is refused below).
-    bool alone = true;
-    for (const fs::directory_entry& e : fs::directory_iterator(out)) {
-      alone = alone && e.path().filename() == kStaging;
-    }
-    if (alone || fs::exists(out / kManifestFile)) {
-      *synthesized = ReadSynthesized(staging);
-      fs::remove_all(staging);
-    }
-  }
-  if (!fs::exists(out)) return false;
-  if (!fs::is_directory(out)) {
-    throw InputError(out.string(), 0, "--out", "exists and is not a folder: nothing written");
-  }
-  const fs::path manifest_path = out / kManifestFile;
-  if (!fs::exists(manifest_path)) {
-    for (const fs::directory_entry& e : fs::directory_iterator(out)) {
-      if (e.path().filename() == kStaging) continue;
-      throw InputError(out.string(), 0, "--out",
-                       "neither empty nor a gait database (no manifest.csv): nothing written");
-    }
-    return false;
-  }
-  *manifest = ReadManifest(manifest_path.string());
-  VerifyManifest(*manifest, out.string(), manifest_path.string());
-  // The index must list exactly the manifest's gaits.
-  const std::string index_path = (out / kReferenceDir / kIndexFile).string();
-  std::set<std::string> gaits, listed;
-  for (const ManifestRow& r : manifest->rows) {
-    if (r.kind == "gait") gaits.insert(r.name);
-  }
-  if (fs::exists(index_path)) {
-    for (const GaitIndexEntry& e : ReadGaitIndex(index_path)) listed.insert(e.name);
-  }
-  if (gaits != listed) {
-    throw InputError(index_path, 0, "",
-                     "the gait index and the manifest list different gaits: nothing written");
-  }
-  return true;
 }
 
 std::string ModelSha(const GaitTargets& targets) {
@@ -483,19 +356,21 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
   int code = 0;
   RunAgreed([&] {
     if (!Ranks::root()) return;
-    const fs::path staging = out / kStaging;
+    const fs::path staging = out / kStagingDir;
     fs::remove_all(staging);
     fs::create_directories(staging / kReferenceDir);
     std::vector<GaitRecord> records;
     std::map<std::string, GaitWalkerSettings> walker;
     std::map<std::string, std::string> inputs_of;
+    std::map<std::string, SynthesizedGait> built;  // by this build or an unfinished one
     for (size_t i = 0; i < targets.gaits.size(); ++i) {
       const GaitTarget& g = targets.gaits[i];
       const std::string file = std::string(kReferenceDir) + "/" + g.name + ".csv";
       if (kept[i]) {
         WriteBytes((staging / file).string(), ReadBytes((out / file).string()));
       } else if (reused[i]) {
-        WriteBytes((staging / file).string(), synthesized.at(g.name).text);
+        built[g.name] = synthesized.at(g.name);
+        WriteBytes((staging / file).string(), built[g.name].text);
         result.built.push_back(g.name);
       } else {
         const SynthesisOutcome* o = by_index.at(i);
@@ -503,6 +378,7 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
           result.missed.push_back(g.name);  // nothing written for it
           continue;
         }
+        built[g.name] = {inputs[i], o->text};
         WriteBytes((staging / file).string(), o->text);
         result.built.push_back(g.name);
       }
@@ -512,15 +388,8 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
     }
     // What the steps below may still stop on (a check suite's settings, the speed gaits' measured
     // order) leaves the synthesis to the next build.
-    {
-      std::string list = kSynthesizedHeader;
-      for (const std::string& name : result.built) {
-        list += name + "," + inputs_of.at(name) + "," +
-                Sha256OfFile((staging / kReferenceDir / (name + ".csv")).string()) + "\n";
-      }
-      WriteBytes((staging / kSynthesizedFile).string(), list);
-      if (options.staged != nullptr) *options.staged = true;
-    }
+    WriteSynthesizedList(staging, built);
+    if (options.staged != nullptr) *options.staged = true;
     const auto speed_gaits = std::count_if(records.begin(), records.end(), [](const GaitRecord& g) {
       return g.role == GaitRole::kSpeed;
     });
@@ -573,7 +442,7 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
       });
       std::sort(result.check_failures.begin(), result.check_failures.end());
     }
-    fs::remove(staging / kSynthesizedFile);  // not part of the database
+    RemoveSynthesizedList(staging);  // not part of the database
     if (options.staged != nullptr) *options.staged = false;
     Manifest manifest;
     manifest.generator = version;
@@ -596,7 +465,7 @@ GaitBuildResult BuildGaitDatabase(const GaitTargets& targets, const GaitBuildOpt
     TestKillPoint("gaits-build-manifest");
     std::set<std::string> old_files;
     for (const ManifestRow& r : old.rows) old_files.insert(r.file);
-    Commit(out, old_files);
+    CommitStaging(out, old_files);
     TestKillPoint("gaits-build-committed");
   });
   code =
