@@ -270,3 +270,29 @@ TEST_F(CliTest, ReportRefusesAnIncompleteOrMixedSetOfShards) {
   EXPECT_EQ(complete.code, 0) << complete.output;
   EXPECT_TRUE(fs::exists(out / "walk+nearest_gait" / "steps.csv"));
 }
+
+// A gnuplot the user names that cannot be run is a usage error before any work (run, report and
+// tune; with a '/' a file that is not executable, without one no such name on PATH); a gnuplot
+// that runs and fails is a warning, and the page is written without its figures.
+TEST_F(CliTest, AGnuplotThatCannotBeRunIsAUsageError) {
+  const std::string suite = Write("small.toml", SmallWalkerSuite(""));
+  const fs::path out = dir_ / "report";
+  const std::string not_executable = Write("gnuplot", "#!/bin/sh\nexit 0\n");  // mode 644
+  for (const std::string& gnuplot : {std::string("rabbit-no-such-gnuplot"),
+                                     (dir_ / "missing").string(), not_executable, dir_.string()}) {
+    SCOPED_TRACE(gnuplot);
+    for (const std::string& command : {"run " + suite + " -q --out " + out.string(),
+                                       "report -q " + out.string(), "tune " + suite + " -q"}) {
+      const CliRun r = RunCli(command + " --gnuplot " + gnuplot);
+      EXPECT_EQ(r.code, 2) << command << r.output;
+      EXPECT_NE(r.output.find("--gnuplot: cannot run '" + gnuplot + "'"), std::string::npos)
+          << r.output;
+      EXPECT_FALSE(fs::exists(out)) << command;
+    }
+  }
+  const CliRun fails =
+      RunCli("run " + suite + " -q --out " + out.string() + " --gnuplot /bin/false");
+  EXPECT_EQ(fails.code, 0) << fails.output;
+  EXPECT_NE(fails.output.find("warning: figures left out"), std::string::npos) << fails.output;
+  EXPECT_TRUE(fs::exists(out / "index.html"));
+}

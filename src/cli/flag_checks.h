@@ -13,6 +13,8 @@
 #include <string>
 #include <system_error>
 
+#include "rabbit/report/gnuplot.h"
+
 namespace rabbit::cli {
 
 // --family-details: -1 (every member) or at most this many members per family.
@@ -55,6 +57,21 @@ inline CLI::Validator NonEmptyText() {
         return text.empty() ? std::string("expected a value, got an empty text") : std::string();
       },
       "");
+}
+
+// --gnuplot: a gnuplot the user names must be one this process can run, so that a typo is a usage
+// error before the work, not a warning after it that the figures were left out (without the
+// flag, a machine without gnuplot gets the warning: figures are optional).
+inline CLI::Validator RunnableExecutable() {
+  return CLI::Validator(
+      [](std::string& text) {
+        if (rabbit::IsRunnableExecutable(text)) return std::string();
+        return "cannot run '" + text + "': " +
+               (text.find('/') != std::string::npos
+                    ? std::string("not an executable file")
+                    : std::string("no executable of that name on PATH"));
+      },
+      "EXECUTABLE");
 }
 
 inline CLI::Validator IntegerIn(long lo, long hi, const std::string& unit = "") {

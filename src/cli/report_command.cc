@@ -118,7 +118,8 @@ Command RegisterReport(CLI::App* app) {
       ->required();
   cmd->add_option("--gnuplot", args->options.gnuplot,
                   "gnuplot executable for the figures (searched on PATH without a '/'); without it "
-                  "the page has tables and replays only");
+                  "the page has tables and replays only")
+      ->check(RunnableExecutable());
   cmd->add_option("--replay-fps", args->options.replay_fps, "Frames per second of the replays");
   cmd->add_option("--stick-window", args->options.stick_window,
                   "Seconds of walking per stick diagram");

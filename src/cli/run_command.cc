@@ -545,7 +545,8 @@ Command RegisterRun(CLI::App* app) {
                 "Continue a run that was killed: keep the runs it finished (in DIR.partial) and "
                 "run only the rest, for the same suites, --out, --params and --filter");
   cmd->add_option("--gnuplot", args->report.gnuplot,
-                  "gnuplot executable for the figures (searched on PATH without a '/')");
+                  "gnuplot executable for the figures (searched on PATH without a '/')")
+      ->check(RunnableExecutable());
   cmd->add_option("--family-details", args->report.family_details,
                   "Figures, steps and replays for the first N members of each family only "
                   "(-1: every member)")

@@ -10,6 +10,7 @@
 #include <string>
 
 #include "cli/commands.h"
+#include "cli/flag_checks.h"
 #include "rabbit/gait/database_layout.h"
 #include "rabbit/io/error.h"
 #include "rabbit/scenario/ranks.h"
@@ -140,7 +141,8 @@ Command RegisterTune(CLI::App* app) {
   cmd->add_option("--gaits", args->gaits,
                   "Gait database for every walker scenario (folder; default: the one each names)");
   cmd->add_option("--gnuplot", args->options.gnuplot,
-                  "gnuplot executable for the figures (searched on PATH without a '/')");
+                  "gnuplot executable for the figures (searched on PATH without a '/')")
+      ->check(RunnableExecutable());
   cmd->add_flag("--resume", args->options.resume,
                 "Continue the job's log (after an interruption, or to merge shards)");
   cmd->add_flag("--force", args->options.force, "Discard an existing log and start over");

@@ -3,6 +3,7 @@
 #include <fcntl.h>
 #include <signal.h>
 #include <spawn.h>
+#include <sys/stat.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -67,7 +68,27 @@ std::string Head(const std::string& text, int max_lines) {
   return TruncateForMessage(out, kMaxQuotedOutputBytes);
 }
 
+bool IsRunnableFile(const std::string& path) {
+  struct stat st;
+  return ::stat(path.c_str(), &st) == 0 && S_ISREG(st.st_mode) && ::access(path.c_str(), X_OK) == 0;
+}
+
 }  // namespace
+
+bool IsRunnableExecutable(const std::string& executable) {
+  if (executable.empty()) return false;
+  if (executable.find('/') != std::string::npos) return IsRunnableFile(executable);
+  const char* path = std::getenv("PATH");
+  const std::string dirs = path != nullptr ? path : "/bin:/usr/bin";
+  size_t start = 0;
+  while (true) {
+    const size_t colon = dirs.find(':', start);
+    const std::string dir = dirs.substr(start, colon == std::string::npos ? colon : colon - start);
+    if (IsRunnableFile((dir.empty() ? std::string(".") : dir) + "/" + executable)) return true;
+    if (colon == std::string::npos) return false;
+    start = colon + 1;
+  }
+}
 
 std::string GnuplotQuote(const std::string& text) {
   std::string out = "'";

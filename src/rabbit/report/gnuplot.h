@@ -28,6 +28,10 @@ struct GnuplotResult {
 // timeout seconds. Never throws for gnuplot's failures: they are in the result.
 GnuplotResult RunGnuplot(const std::string& executable, const GnuplotJob& job, double timeout);
 
+// Whether `executable` names a file this process may run: with a '/', that file; else a file of
+// that name in a folder of PATH (posix_spawnp's search; "/bin:/usr/bin" when PATH is unset).
+bool IsRunnableExecutable(const std::string& executable);
+
 // text as a gnuplot single-quoted string (a quote doubled; newlines become spaces).
 std::string GnuplotQuote(const std::string& text);
 
