@@ -6,11 +6,12 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 #include <utility>
 #include <vector>
-#include <stdexcept>
 
 #include "rabbit/learn/ts_fis.h"
 
@@ -54,17 +55,19 @@ Observation Standing(double t, bool foot0, bool foot1, double x0, double x1) {
 
 // The scripted contact sequence of the velocity tests: leg 1 (index 1) lifts off at t = 0.1 and
 // lands at 0.6 s, 0.30 m ahead of leg 0 (V_M = 0.6 m/s); leg 0 lifts off at 0.7 s and lands at
-// 1.1 s, 0.36 m ahead (V_M = 0.9 m/s). Feeds 1.2 s of observations at 1 kHz.
+// 1.1 s, 0.36 m ahead (V_M = 0.9 m/s): its observation at t. WalkTwoSteps feeds 1.2 s of them at
+// 1 kHz.
+Observation TwoStepsAt(double t, const Terrain* terrain) {
+  const bool air1 = t >= 0.1 - 1e-9 && t < 0.6 - 1e-9;
+  const bool air0 = t >= 0.7 - 1e-9 && t < 1.1 - 1e-9;
+  Observation obs =
+      Standing(t, !air0, !air1, t < 1.1 - 1e-9 ? -0.1 : 0.56, t < 0.6 - 1e-9 ? -0.1 : 0.2);
+  obs.terrain = terrain;
+  return obs;
+}
+
 void WalkTwoSteps(FuzzyCmacWalker* walker, const Terrain* terrain = nullptr) {
-  for (int k = 0; k <= 1200; ++k) {
-    const double t = k * 1e-3;
-    const bool air1 = t >= 0.1 - 1e-9 && t < 0.6 - 1e-9;
-    const bool air0 = t >= 0.7 - 1e-9 && t < 1.1 - 1e-9;
-    Observation obs =
-        Standing(t, !air0, !air1, t < 1.1 - 1e-9 ? -0.1 : 0.56, t < 0.6 - 1e-9 ? -0.1 : 0.2);
-    obs.terrain = terrain;
-    walker->Compute(obs);
-  }
+  for (int k = 0; k <= 1200; ++k) walker->Compute(TwoStepsAt(k * 1e-3, terrain));
 }
 
 TEST(VelocityProfileTest, ConstantRampAndSteps) {
@@ -120,6 +123,43 @@ TEST(FuzzyCmacWalkerTest, PdLawsOfEquations21To24) {
     EXPECT_NEAR(tau[1], -p.stance_knee_kp * q[kQ12] - p.stance_knee_kd * qd[kQ12], 1e-9);
     EXPECT_NEAR(tau[0], p.trunk_kp * (0.07 - q[kQ0]) - p.trunk_kd * qd[kQ0], 1e-9);
   }
+}
+
+// The stance knee's landing. In WalkTwoSteps's script leg 0 swings from 0.7 to 1.1 s and lands
+// 0.56 m ahead; here with its knee at -0.5 rad. When that swing was lifted (an obstacle 0.1 m
+// ahead of leg 1's foot when it landed at 0.6 s: d_obs below lift.d_obs) and the landing is flexed
+// below stance_knee_flexed, the stance knee's reference rises from -0.5 at stance_knee_rate to 0
+// (eq. 23's target); otherwise it is 0 at once.
+TEST(FuzzyCmacWalkerTest, AKneeLandingFlexedFromALiftedSwingStraightensAtTheStanceKneeRate) {
+  WalkerParams p;
+  p.warmup_steps = 0;
+  p.thigh_frame = false;
+  p.stance_knee_rate = 2.0;
+  Terrain obstacle;
+  obstacle.obstacles = {{0.3, 0.1, 0.02}};
+  VelocityProfile v;
+  for (const Terrain* terrain : std::vector<const Terrain*>{&obstacle, nullptr}) {
+    for (double flexed : {-0.3, -0.6}) {
+      p.stance_knee_flexed = flexed;
+      FuzzyCmacWalker walker(p, ConstantPattern(), v, 0);
+      for (int k = 0; k <= 1400; ++k) {
+        const double t = k * 1e-3;
+        Observation obs = TwoStepsAt(t, terrain);
+        if (t >= 1.1 - 1e-9) obs.q[kQ12] = -0.5;  // leg 0 lands flexed
+        const Vec4 tau = walker.Compute(obs);
+        if (k == 1150 || k == 1400) {
+          ASSERT_EQ(walker.steps().size(), 2u);  // leg 0 has landed and is the stance leg
+          const bool ramp = terrain != nullptr && -0.5 < flexed;
+          const double ref = ramp ? std::min(-0.5 + 2.0 * (t - 1.1), 0.0) : 0.0;
+          EXPECT_NEAR(tau[1],
+                      p.stance_knee_kp * (ref - obs.q[kQ12]) - p.stance_knee_kd * obs.qd[kQ12],
+                      1e-9)
+              << "obstacle " << (terrain != nullptr) << ", flexed " << flexed << ", t " << t;
+        }
+      }
+    }
+  }
+  EXPECT_EQ(WalkerParams().stance_knee_rate, 0.0);  // off by default: eq. 23 as it is
 }
 
 // A gait pattern of constant references that records the contexts it was given.

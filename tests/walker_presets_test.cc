@@ -213,6 +213,22 @@ TEST_F(WalkerPresetsTest, TheLiftReleaseRateIsReadOverThePreset) {
   EXPECT_THROW(LoadScenario(Write("lift_release_rate = -1\n")), InputError);
 }
 
+TEST_F(WalkerPresetsTest, TheStanceKneesLandingIsTheAdaptiveWalkersAndReadInDegrees) {
+  const WalkerParams a = LoadScenario(Write("")).walker;
+  EXPECT_EQ(a.stance_knee_rate, 2.0);
+  EXPECT_EQ(a.stance_knee_flexed, -0.3);
+  const WalkerParams c = PresetWalkerParams(WalkerPreset::kChapter);
+  EXPECT_EQ(c.stance_knee_rate, 0.0);  // the chapter's eq. 23 as it is
+  const WalkerParams set =
+      LoadScenario(Write("stance_knee_rate = 3.5\nstance_knee_flexed_deg = -45\n")).walker;
+  EXPECT_EQ(set.stance_knee_rate, 3.5);
+  EXPECT_NEAR(set.stance_knee_flexed, -M_PI / 4, 1e-15);
+  for (const char* bad : {"stance_knee_rate = -1\n", "stance_knee_flexed_deg = 10\n",
+                          "stance_knee_flexed_deg = -200\n"}) {
+    EXPECT_THROW(LoadScenario(Write(bad)), InputError) << bad;
+  }
+}
+
 TEST_F(WalkerPresetsTest, TheLiftHeightGainIsReadOverThePreset) {
   EXPECT_EQ(LoadScenario(Write("")).walker.lift.height_gain, 0.8);
   EXPECT_EQ(LoadScenario(Write("lift_height_gain = 0.5\n")).walker.lift.height_gain, 0.5);

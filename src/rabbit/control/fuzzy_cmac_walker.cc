@@ -433,6 +433,9 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
        response_.Catching())) {
     stance_ = swing;
     swing_start_ = obs.t;
+    // The landing knee's angle, when the swing that ends here was lifted (a step over or the
+    // trailing leg's step); else none (0).
+    stance_knee_landing_ = lift_armed_ ? obs.q[3 + 2 * swing + 1] : 0.0;
     std::fill(rule_states_.begin(), rule_states_.end(), RuleState{});
     const int taken = static_cast<int>(meter_.steps().size());
     if (warming_up_ && WarmupEnds(obs, taken, obs.foot_pos[swing].x())) {
@@ -520,7 +523,12 @@ Vec4 FuzzyCmacWalker::Compute(const Observation& obs) {
     }
   }
   terrain_steps_.Observe(obs.t, q[kX]);
-  const double knee_ref = stall_.StanceKnee(obs.t) + terrain_steps_.StanceKnee(obs.t);
+  double knee_ref = stall_.StanceKnee(obs.t) + terrain_steps_.StanceKnee(obs.t);
+  if (p_.stance_knee_rate > 0.0 && stance_knee_landing_ < p_.stance_knee_flexed) {
+    // A leg that landed flexed: its knee straightens at stance_knee_rate from its landing angle.
+    knee_ref =
+        std::min(knee_ref, stance_knee_landing_ + p_.stance_knee_rate * (obs.t - swing_start_));
+  }
   tau[2 * st + 1] = knee_kp * (knee_ref - q[st_hip + 1]) - knee_kd * qd[st_hip + 1];
   const double q0_d = q0_d_ + recovery_.TrunkOffset(obs.t) + response_.TrunkOffset() +
                       slope_.TrunkOffset() + stall_.TrunkOffset(obs.t) +

@@ -54,6 +54,15 @@ struct WalkerParams {
   double hip_kp = 350.0, hip_kd = 25.0;
   double knee_kp = 350.0, knee_kd = 20.0;
   double stance_knee_kp = 900.0, stance_knee_kd = 35.0;
+  // The stance knee's landing (beyond the chapter; 0 = off, eq. 23 as it is): after the touchdown
+  // of a lifted swing (the step over or the trailing leg's step) with the knee flexed below
+  // stance_knee_flexed (rad, negative), the stance knee's reference rises from the landing angle
+  // at stance_knee_rate (rad/s) up to its target, instead of stepping to it. A leg landing from a
+  // step over flexed by 0.7 rad was otherwise snapped straight at the knee's full torque: the
+  // robot took off, the knee passed straight at 13 rad/s (where the actuator gives no torque)
+  // and the next landing fell (docs/design/walker.md, "The walker").
+  double stance_knee_rate = 0.0;
+  double stance_knee_flexed = 0.0;
   double trunk_kp = 400.0, trunk_kd = 40.0;
   // Velocity control (eqs. 19-20): K_P in rad per m/s, K_V in rad per m/s^2 (it multiplies the
   // error's change over a step divided by t_step).
@@ -257,6 +266,7 @@ class FuzzyCmacWalker final : public Controller {
     bool hip_locked = false, knee_flexed = false, knee_locked = false;
   };
   double swing_start_ = 0.0;
+  double stance_knee_landing_ = 0.0;  // the stance knee's angle at a lifted swing's touchdown
   std::vector<RuleState> rule_states_;
   TsFis step_fis_;                     // planner: the step-length fuzzy system (when enabled)
   std::vector<size_t> planner_gaits_;  // planner: the gaits step_fis_ blends, in gait order

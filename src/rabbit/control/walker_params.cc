@@ -21,32 +21,37 @@ const std::vector<WalkerRange>& RuleGaitChoiceRanges() {
 }
 
 bool WalkerParams::IsValid(std::string* error) const {
-  const std::pair<const char*, double> values[] = {{"hip_kp", hip_kp},
-                                                   {"hip_kd", hip_kd},
-                                                   {"knee_kp", knee_kp},
-                                                   {"knee_kd", knee_kd},
-                                                   {"stance_knee_kp", stance_knee_kp},
-                                                   {"stance_knee_kd", stance_knee_kd},
-                                                   {"trunk_kp", trunk_kp},
-                                                   {"trunk_kd", trunk_kd},
-                                                   {"d_obs_max", d_obs_max},
-                                                   {"lift_clearance", lift.clearance},
-                                                   {"lift_height_gain", lift.height_gain},
-                                                   {"lift_d_obs", lift.d_obs},
-                                                   {"lift_lead", lift.lead},
-                                                   {"lift_trail", lift.trail},
-                                                   {"lift_ramp", lift.ramp},
-                                                   {"lift_release", lift.release},
-                                                   {"lift_release_rate", lift.release_rate},
-                                                   {"lift_trailing_clearance",
-                                                    lift.trailing_clearance},
-                                                   {"v_m_noise", v_m_noise},
-                                                   {"d_obs_noise", d_obs_noise}};
+  const std::pair<const char*, double> values[] = {
+      {"hip_kp", hip_kp},
+      {"hip_kd", hip_kd},
+      {"knee_kp", knee_kp},
+      {"knee_kd", knee_kd},
+      {"stance_knee_kp", stance_knee_kp},
+      {"stance_knee_kd", stance_knee_kd},
+      {"stance_knee_rate", stance_knee_rate},
+      {"trunk_kp", trunk_kp},
+      {"trunk_kd", trunk_kd},
+      {"d_obs_max", d_obs_max},
+      {"lift_clearance", lift.clearance},
+      {"lift_height_gain", lift.height_gain},
+      {"lift_d_obs", lift.d_obs},
+      {"lift_lead", lift.lead},
+      {"lift_trail", lift.trail},
+      {"lift_ramp", lift.ramp},
+      {"lift_release", lift.release},
+      {"lift_release_rate", lift.release_rate},
+      {"lift_trailing_clearance", lift.trailing_clearance},
+      {"v_m_noise", v_m_noise},
+      {"d_obs_noise", d_obs_noise}};
   for (const auto& [name, value] : values) {
     if (!(std::isfinite(value) && value >= 0.0 && value <= 1e5)) {
       *error = std::string(name) + " must be in [0, 1e5]";
       return false;
     }
+  }
+  if (!(stance_knee_flexed >= -M_PI && stance_knee_flexed <= 0.0)) {
+    *error = "stance_knee_flexed must be in [-180, 0] deg (a flexed knee is negative)";
+    return false;
   }
   if (!std::isfinite(k_p) || !std::isfinite(k_v) || std::abs(k_p) > 10 || std::abs(k_v) > 10) {
     *error = "k_p and k_v must be finite, within 10 (rad per m/s)";

@@ -277,6 +277,8 @@ void ReadWalkerKeys(TomlReader* t, const ModelParams& model, WalkerParams* walke
   w.knee_kd = t->Double("knee_kd", w.knee_kd);
   w.stance_knee_kp = t->Double("stance_knee_kp", w.stance_knee_kp);
   w.stance_knee_kd = t->Double("stance_knee_kd", w.stance_knee_kd);
+  w.stance_knee_rate = t->Double("stance_knee_rate", w.stance_knee_rate);
+  w.stance_knee_flexed = t->Double("stance_knee_flexed_deg", w.stance_knee_flexed / kDeg) * kDeg;
   w.trunk_kp = t->Double("trunk_kp", w.trunk_kp);
   w.trunk_kd = t->Double("trunk_kd", w.trunk_kd);
   w.k_p = t->Double("k_p", w.k_p);
