@@ -1,8 +1,7 @@
 #include "gait_build_staging.h"
 
-#include <algorithm>
-#include <cctype>
 #include <exception>
+#include <vector>
 
 #include "rabbit/gait/database_layout.h"
 #include "rabbit/gait/gait_database.h"
@@ -24,11 +23,6 @@ constexpr const char* kSynthesizedFile = "synthesized.csv";
 constexpr const char* kSynthesizedFormat = "# format = rabbit-gait-synthesized/1\n";
 constexpr const char* kSynthesizedColumns = "name,inputs_sha256,sha256";
 
-bool IsSha256Hex(const std::string& s) {
-  return s.size() == 64 &&
-         std::all_of(s.begin(), s.end(), [](unsigned char c) { return std::isxdigit(c) != 0; });
-}
-
 // The gaits an incomplete staging folder's list names whose files are there with their hashes.
 // The list is the build's own scratch: a row or file that does not agree is skipped (its gait is
 // synthesized again), and a list that cannot be read is ignored, never an error.
@@ -45,7 +39,7 @@ std::map<std::string, SynthesizedGait> ReadSynthesizedList(const fs::path& stagi
     for (size_t r = 0; r < t.num_rows(); ++r) {
       const std::string name = t.Text(r, 0), inputs = t.Text(r, 1), sha = t.Text(r, 2);
       // A gait's name as the targets allow it, so the names travel to the other ranks intact.
-      if (!IsSafeName(name) || !IsSha256Hex(inputs)) continue;
+      if (!IsSafeName(name) || !IsHex64(inputs)) continue;
       const fs::path file = staging / kReferenceDir / (name + ".csv");
       if (!fs::exists(file)) continue;
       std::string gait = ReadBoundedFile(file.string(), kGaitFileLimits);

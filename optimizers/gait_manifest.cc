@@ -16,11 +16,11 @@ namespace {
 
 const char* const kColumns[] = {"kind", "name", "file", "sha256", "seed", "inputs_sha256"};
 
+}  // namespace
+
 bool IsHex64(const std::string& s) {
   return s.size() == 64 && s.find_first_not_of("0123456789abcdef") == std::string::npos;
 }
-
-}  // namespace
 
 std::string ManifestText(const Manifest& m) {
   std::ostringstream out;

@@ -33,6 +33,9 @@ struct Manifest {
   std::vector<ManifestRow> rows;
 };
 
+// Whether s is a SHA-256 as the manifest writes it: 64 lowercase hex digits.
+bool IsHex64(const std::string& s);
+
 std::string ManifestText(const Manifest& manifest);  // rows in the given order
 // Reads root/manifest.csv. Throws InputError (file, line, key) for a missing or wrong format
 // line, unknown columns or kinds, a bad hash, a path leaving the root, a file listed twice.
