@@ -86,7 +86,7 @@ TEST(WalkerPresets, TheChapterDiffersFromTheAdaptiveWalkerOnlyWhereDocumented) {
 TEST(WalkerPresets, TheAdaptiveWalkerStepsOverLowerAndShorter) {
   const WalkerParams a = PresetWalkerParams(WalkerPreset::kAdaptive);
   const WalkerParams c = PresetWalkerParams(WalkerPreset::kChapter);
-  EXPECT_EQ(a.lift.clearance, 0.04);
+  EXPECT_EQ(a.lift.clearance, 0.05);
   EXPECT_EQ(a.lift.height_gain, 0.8);
   EXPECT_EQ(c.lift.height_gain, 0.0);
   EXPECT_EQ(a.lift.trailing_clearance, 0.04);

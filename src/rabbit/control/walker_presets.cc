@@ -48,7 +48,10 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // 0.45 m (0.50): on robustness_train.toml (baselines = []) obstacle 30 -> 32, rows 12 -> 23
       // of 40; on scenarios/train/obstacles.toml 108 -> 120 of 170 (docs/design/step-planner.md,
       // "The step planner").
-      w.lift.clearance = 0.04;
+      // On the walker of today the clearance is 0.05 m: the five obstacle families of sixteen
+      // training seed sets 2,865 -> 2,891 of 3,200 passed, no family losing (the same document,
+      // "The lift's clearance, measured again").
+      w.lift.clearance = 0.05;
       // ... and at least 0.8 of the obstacle's height above a high one (0.056 m over 0.07 m):
       // robustness_train (obstacle, rows, during a speed change, noise: 40 each) 124 -> 127 of 160,
       // train/obstacles 120 -> 122 of 170 (docs/design/step-planner.md, "The step planner").
