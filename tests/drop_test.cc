@@ -122,7 +122,7 @@ class DropKeysTest : public testing::WalkerKeysTest {
 
 TEST_F(DropKeysTest, ReadAndValidated) {
   const VelocityControlParams shipped = LoadSuite(Write("")).scenarios[0].walker.velocity_control;
-  EXPECT_DOUBLE_EQ(shipped.v_d_rate_down, 0.15);  // the adaptive preset
+  EXPECT_DOUBLE_EQ(shipped.v_d_rate_down, 0.18);  // the adaptive preset
   EXPECT_DOUBLE_EQ(shipped.v_d_rate_down_below, 0.75);
   EXPECT_DOUBLE_EQ(shipped.drop_gap, 0.55);
   EXPECT_EQ(shipped.drop_no_raise, 3);
