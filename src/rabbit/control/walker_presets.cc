@@ -43,14 +43,13 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // step over: obstacle rows 10 -> 18 of 40 training members (docs/design/step-planner.md, "The
       // step planner").
       w.planner.hold_pitch_steps = 3;
-      // A lower, shorter step over: the foot lift 0.04 m above the obstacle (0.06 otherwise), the
-      // step over's foot lowered within 0.02 m past the far edge (0.05) and asked for at most
-      // 0.45 m (0.50): on robustness_train.toml (baselines = []) obstacle 30 -> 32, rows 12 -> 23
-      // of 40; on scenarios/train/obstacles.toml 108 -> 120 of 170 (docs/design/step-planner.md,
-      // "The step planner").
-      // On the walker of today the clearance is 0.05 m: the five obstacle families of sixteen
-      // training seed sets 2,865 -> 2,891 of 3,200 passed, no family losing (the same document,
-      // "The lift's clearance, measured again").
+      // A lower, shorter step over: the foot lift lower above the obstacle (0.06 m otherwise),
+      // the step over's foot lowered within 0.02 m past the far edge (0.05) and asked for at most
+      // 0.45 m (0.50): with the lift at 0.04 m, on robustness_train.toml (baselines = []) obstacle
+      // 30 -> 32, rows 12 -> 23 of 40; on scenarios/train/obstacles.toml 108 -> 120 of 170
+      // (docs/design/step-planner.md, "The step planner"). Measured again on the walker of today,
+      // 0.05 m: the five obstacle families of sixteen training seed sets 2,865 -> 2,891 of 3,200
+      // passed, no family losing (the same document, "The lift's clearance, measured again").
       w.lift.clearance = 0.05;
       // ... and at least 0.8 of the obstacle's height above a high one (0.056 m over 0.07 m):
       // robustness_train (obstacle, rows, during a speed change, noise: 40 each) 124 -> 127 of 160,
