@@ -5,6 +5,7 @@
 
 #include <filesystem>
 
+#include "rabbit/scenario/suite.h"
 #include "tune_job.h"
 #include "tuner.h"
 
@@ -48,6 +49,30 @@ TEST(TuneJobsTest, EveryShippedJobLoads) {
   // robustness_obstacles, robustness_planner, robustness_push, robustness_push_response and
   // robustness_speed run for minutes: loaded, not run.
   EXPECT_EQ(jobs, 8);
+}
+
+// Every candidate a shipped job can ask for is a valid walker: each parameter at either bound, the
+// others at their initial values, loads every suite of the job. A bound past a key's valid range,
+// or past another key the value must stay within (the planner's l_nominal within [l_min, l_max]),
+// would be refused at each such candidate, an evaluation of the budget lost.
+TEST(TuneJobsTest, EveryBoundOfEveryShippedJobIsAValidSetting) {
+  for (const fs::directory_entry& e : fs::directory_iterator(kJobs)) {
+    if (e.path().extension() != ".toml") continue;
+    const TuneJob job = LoadTuneJob(e.path().string());
+    std::vector<double> initial;
+    for (const TuneParameter& p : job.parameters) initial.push_back(p.initial);
+    for (size_t i = 0; i < job.parameters.size(); ++i) {
+      for (const double bound : {job.parameters[i].lower, job.parameters[i].upper}) {
+        std::vector<double> x = initial;
+        x[i] = bound;
+        const ParamOverlay overlay = job.Overlay(x);
+        for (const std::string& suite : job.suites) {
+          EXPECT_NO_THROW(LoadSuite(suite, &overlay))
+              << job.name << ": " << job.parameters[i].path << " = " << bound << " in " << suite;
+        }
+      }
+    }
+  }
 }
 
 TEST(TuneJobsTest, VelocityGainsImproveTheRampTracking) { ExpectImproves("velocity_gains"); }
