@@ -7,6 +7,7 @@
 
 #include "rabbit/scenario/suite.h"
 #include "tune_job.h"
+#include "tune_search.h"
 #include "tuner.h"
 
 namespace rabbit {
@@ -59,8 +60,7 @@ TEST(TuneJobsTest, EveryBoundOfEveryShippedJobIsAValidSetting) {
   for (const fs::directory_entry& e : fs::directory_iterator(kJobs)) {
     if (e.path().extension() != ".toml") continue;
     const TuneJob job = LoadTuneJob(e.path().string());
-    std::vector<double> initial;
-    for (const TuneParameter& p : job.parameters) initial.push_back(p.initial);
+    const std::vector<double> initial = tune_internal::StartPoint(job, 0);  // the initial values
     for (size_t i = 0; i < job.parameters.size(); ++i) {
       for (const double bound : {job.parameters[i].lower, job.parameters[i].upper}) {
         std::vector<double> x = initial;
