@@ -54,6 +54,14 @@ bool VelocityControlParams::IsValid(std::string* error) const {
     *error = "velocity_control.drop_no_raise must be in [0, 100] touchdowns";
     return false;
   }
+  if (!(drop_floor_steps >= 0 && drop_floor_steps <= 100)) {
+    *error = "velocity_control.drop_floor_steps must be in [0, 100] touchdowns";
+    return false;
+  }
+  if (!(std::abs(drop_floor_margin) <= M_PI / 4)) {
+    *error = "velocity_control.drop_floor_margin_deg must be in [-45, 45] deg";
+    return false;
+  }
   return step_map.IsValid(error);
 }
 
@@ -124,6 +132,7 @@ double VelocityControl::Command(double v_d, double v_m, double v_profile) {
   const bool stepped_down = have_command_ && source < last_source_ - p_.drop_min;
   const bool stepped_up = have_command_ && source > last_source_;
   last_source_ = source;
+  last_v_d_ = v_d;
   if (!p_.enabled || !have_command_) {
     v_c_ = v_d;
     have_command_ = true;
@@ -211,6 +220,16 @@ double VelocityControl::Update(double v_m, double t_step, double extra) {
     excess_ = u - q0_d_;
   } else {
     q0_d_ = std::clamp(q0_d_ + dq0, q0_d_min_, q0_d_max_);
+  }
+  // The drop's pitch floor: no lean back past the pitch of the speed the drop comes down to.
+  if (p_.drop_floor_steps > 0 && since_drop_ >= 0 &&
+      (dropping_ || since_drop_ < p_.drop_floor_steps)) {
+    const PitchMap& map = settled_map_.points().empty() ? map_ : settled_map_;
+    const double floor = std::min(map.At(last_v_d_) - p_.drop_floor_margin, q0_d_max_);
+    if (!map.points().empty() && q0_d_ < floor) {
+      q0_d_ = floor;
+      excess_ = 0.0;
+    }
   }
   last_error_ = error;
   last_v_m_ = v_m;

@@ -46,7 +46,12 @@
 // the pattern does not reach a gait far slower than the robot); and for drop_no_raise touchdowns
 // from each decrease of V_c the law may lower q0_d but not raise it (a stumble's slow stride is
 // not answered by a lean forward that throws the robot past the new speed)
-// (docs/design/velocity-control.md, "Velocity control").
+// (docs/design/velocity-control.md, "Velocity control"). In a drop, and for drop_floor_steps
+// touchdowns from each decrease of V_c, q0_d does not go below the pitch the walker settles at
+// for the command V_d (the settled map, or the pitch map without one) less drop_floor_margin:
+// the slower gait's pattern brakes the robot a few steps after the pitch has leaned back, and a
+// pitch leaned past the new speed's then stops it (docs/design/velocity-control.md, "The drop's
+// pitch floor").
 //
 // Rises (enabled only). A rise starts at a touchdown where the speed profile's V_d has stepped up
 // since the previous one, with V_d above V_c and no slope, obstacle or step command moving it
@@ -123,6 +128,10 @@ struct VelocityControlParams {
   double v_d_rate_down_below = 3.0;  // m/s: the V_c from which down v_d_rate_down applies
   double drop_gap = 0.0;
   int drop_no_raise = 0;
+  // The drop's pitch floor: touchdowns from each decrease of V_c during which it holds (0: off,
+  // the law bit for bit) and its margin below the map's pitch at V_d (rad).
+  int drop_floor_steps = 0;
+  double drop_floor_margin = 0.0;
   // law = "step_map": the step-to-step map chooses q0_d at each update instead of the law above
   // (the rate limit still applies when enabled; the feed-forward and start_at_map do not: the
   // map's q* takes their place).
@@ -209,6 +218,7 @@ class VelocityControl {
   bool rising_ = false;       // a rise of the profile's own V_d is under way
   double last_source_ = 0.0;  // the profile's V_d at the previous call
   int since_drop_ = -1;       // touchdowns since V_c last decreased (-1: never)
+  double last_v_d_ = 0.0;     // V_d at the last command (m/s)
   bool shift_idle_ = false;   // the walker's gait choice holds in the gait shift's place
   double excess_ = 0.0;       // gait shift: the effort u below the q0_d floor, u - q0_d (rad, <= 0)
 };

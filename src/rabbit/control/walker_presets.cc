@@ -154,6 +154,12 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // 360; every other family the same runs (docs/design/velocity-control.md, "Velocity
       // control").
       w.velocity_control.v_d_rate_down_below = 0.75;
+      // ... and for three touchdowns from each decrease of V_c in a drop, the trunk leans back
+      // no further than the settled pitch at the new command: speed_commands of eight training
+      // seed sets 261 -> 276 of 320 passed, on twenty-four more drawn to check it 803 -> 826 of
+      // 960 (36 gained, 13 lost), obstacle_speed_change 930 -> 929, every other family the same
+      // runs (docs/design/velocity-control.md, "The drop's pitch floor").
+      w.velocity_control.drop_floor_steps = 3;
       // The walker's own settled pitch against speed on the shipped database (`bash
       // bench/settled_pitch.sh build false`: the mean q0_d of the last 10 steps of a 40 s walk at
       // each speed; at 0.74 m/s 16.8 deg against the reference gaits' 10.7, where the blend of the

@@ -240,6 +240,12 @@ void ReadVelocityControl(TomlReader r, VelocityControlParams* p) {
     }
   }
   p->drop_no_raise = static_cast<int>(r.Integer("drop_no_raise", p->drop_no_raise, 0, 100));
+  p->drop_floor_steps =
+      static_cast<int>(r.Integer("drop_floor_steps", p->drop_floor_steps, 0, 100));
+  p->drop_floor_margin = r.Double("drop_floor_margin_deg", p->drop_floor_margin / kDeg) * kDeg;
+  if (!(std::abs(p->drop_floor_margin) <= M_PI / 4)) {
+    r.Fail("drop_floor_margin_deg", "must be in [-45, 45] deg");
+  }
   const std::string law = r.String("law", p->law == VelocityLaw::kStepMap ? "step_map" : "chapter");
   if (law != "chapter" && law != "step_map") r.Fail("law", "expected \"chapter\" or \"step_map\"");
   p->law = law == "step_map" ? VelocityLaw::kStepMap : VelocityLaw::kChapter;
