@@ -168,7 +168,7 @@ TEST_F(DropKeysTest, ReadAndValidated) {
   EXPECT_DOUBLE_EQ(shipped.v_d_rate_down, 0.18);  // the adaptive preset
   EXPECT_DOUBLE_EQ(shipped.v_d_rate_down_below, 0.75);
   EXPECT_DOUBLE_EQ(shipped.drop_gap, 0.55);
-  EXPECT_EQ(shipped.drop_no_raise, 4);
+  EXPECT_EQ(shipped.drop_no_raise, 3);
   EXPECT_EQ(shipped.drop_floor_steps, 3);
   EXPECT_DOUBLE_EQ(shipped.drop_floor_margin, 0.0);
   const Suite suite = LoadSuite(

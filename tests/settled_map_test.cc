@@ -136,7 +136,7 @@ TEST(SettledMapTest, TheAdaptivePresetStartsAtTheSettledMap) {
   EXPECT_DOUBLE_EQ(a.velocity_control.settled_pitch_map[10].first, 0.75);
   EXPECT_NEAR(a.velocity_control.settled_pitch_map[10].second / kDeg, 16.8, 1e-12);
   EXPECT_EQ(a.velocity_control.settled_start_clear, 8.0);
-  EXPECT_EQ(a.velocity_control.settled_feedforward_gain, 0.6);
+  EXPECT_EQ(a.velocity_control.settled_feedforward_gain, 0.5);
   EXPECT_EQ(a.velocity_control.settled_rise_extra, 0.15);
   std::string error;
   EXPECT_TRUE(a.velocity_control.IsValid(&error)) << error;

@@ -129,8 +129,7 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // "Velocity control").
       w.velocity_control.gait_shift_gain = 2.0;
       w.velocity_control.drop_min = 0.15;
-      // 4 touchdowns since the drop's pitch floor, below.
-      w.velocity_control.drop_no_raise = 4;
+      w.velocity_control.drop_no_raise = 3;
       // The command's rates and the trunk's feed-forward, tuned jointly (rabbit tune
       // optimizers/jobs/robustness_speed.toml, CRS2 over the 80 training speed members) and
       // scoped to the speed profile's own changes: V_c moves at 0.15 m/s per step in a rise and
@@ -161,11 +160,6 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
       // 960 (36 gained, 13 lost), obstacle_speed_change 930 -> 929, every other family the same
       // runs (docs/design/velocity-control.md, "The drop's pitch floor").
       w.velocity_control.drop_floor_steps = 3;
-      // With the floor, the law's hold after a decrease and the settled feed-forward moved again:
-      // drop_no_raise 4 (3, above) and settled_feedforward_gain 0.6 (0.5, below): speed_commands
-      // of the same eight sets 276 -> 285, of the twenty-four others 826 -> 850 (62 gained, 38
-      // lost), obstacle_speed_change 929 -> 926 of 960, speed_ramps the same passes (the same
-      // document, "The keys around the floor, moved again").
       // The walker's own settled pitch against speed on the shipped database (`bash
       // bench/settled_pitch.sh build false`: the mean q0_d of the last 10 steps of a 40 s walk at
       // each speed; at 0.74 m/s 16.8 deg against the reference gaits' 10.7, where the blend of the
@@ -183,7 +177,7 @@ WalkerParams PresetWalkerParams(WalkerPreset preset) {
           {0.65, 11.0 * kDeg}, {0.70, 11.9 * kDeg}, {0.75, 16.8 * kDeg}, {0.80, 13.9 * kDeg},
           {0.85, 20.6 * kDeg}, {0.90, 25.6 * kDeg}, {0.95, 22.8 * kDeg}, {1.00, 24.5 * kDeg}};
       w.velocity_control.settled_start_clear = 8.0;
-      w.velocity_control.settled_feedforward_gain = 0.6;  // 0.5 before the drop's pitch floor
+      w.velocity_control.settled_feedforward_gain = 0.5;
       w.velocity_control.settled_rise_extra = 0.15;
       // Between two rule-walked gaits (0.8-0.9 and 0.9-1.0 m/s) the pattern walks the nearer one
       // while the command holds: on robustness_train.toml 499 of 640 members against 487,
