@@ -104,6 +104,15 @@ TEST(DropTest, PitchFloorAtTheNewSpeedsPitch) {
   EXPECT_NEAR(c.Update(0.9, 0.5), 0.04, kTolerance);
   c.Command(0.5);  // two touchdowns on: the law alone, 0.04 - 0.08
   EXPECT_NEAR(c.Update(0.9, 0.5), -0.04, kTolerance);
+  // A higher command since (a rise, an obstacle's approach speed) does not raise the floor: at
+  // 0.7 m/s the map's 0.09 would lift the law's 0.04 + 0.2 (0.7 - 0.9) = 0; the drop's 0.04 holds.
+  VelocityControl up(p, 0.2, 0.0, -0.1, 0.45, 0.1, PitchMap({{0.4, 0.0}, {0.6, 0.1}}));
+  up.Command(0.9);
+  up.Update(0.9, 0.5);
+  up.Command(0.5);
+  up.Update(0.9, 0.5);  // held at 0.04
+  up.Command(0.7);
+  EXPECT_NEAR(up.Update(0.9, 0.5), 0.04, kTolerance);
   // A floor above the range's ceiling stops at the ceiling.
   p.drop_floor_margin = -0.5;
   VelocityControl high(p, 0.2, 0.0, -0.1, 0.45, 0.1, PitchMap({{0.4, 0.0}, {0.6, 0.1}}));

@@ -164,7 +164,10 @@ double VelocityControl::Command(double v_d, double v_m, double v_profile) {
     next = std::min(v_c_, std::max(next, v_m - p_.drop_gap));
   }
   if (since_drop_ >= 0) ++since_drop_;
-  if (dropping_ && next < v_c_) since_drop_ = 0;
+  if (dropping_ && next < v_c_) {
+    since_drop_ = 0;
+    drop_v_d_ = v_d;
+  }
   const double ff_gain =
       p_.feedforward_gain + (rising_ && next > v_c_ ? p_.feedforward_rise_extra : 0.0);
   if (p_.settled_feedforward_gain > 0.0 && (rising_ || dropping_) &&
@@ -221,11 +224,13 @@ double VelocityControl::Update(double v_m, double t_step, double extra) {
   } else {
     q0_d_ = std::clamp(q0_d_ + dq0, q0_d_min_, q0_d_max_);
   }
-  // The drop's pitch floor: no lean back past the pitch of the speed the drop comes down to.
+  // The drop's pitch floor: no lean back past the pitch of the speed the drop comes down to (a
+  // higher command since, a rise or an obstacle's approach speed, does not raise it).
   if (p_.drop_floor_steps > 0 && since_drop_ >= 0 &&
       (dropping_ || since_drop_ < p_.drop_floor_steps)) {
     const PitchMap& map = settled_map_.points().empty() ? map_ : settled_map_;
-    const double floor = std::min(map.At(last_v_d_) - p_.drop_floor_margin, q0_d_max_);
+    const double v = std::min(last_v_d_, drop_v_d_);
+    const double floor = std::min(map.At(v) - p_.drop_floor_margin, q0_d_max_);
     if (!map.points().empty() && q0_d_ < floor) {
       q0_d_ = floor;
       excess_ = 0.0;

@@ -48,7 +48,8 @@
 // not answered by a lean forward that throws the robot past the new speed)
 // (docs/design/velocity-control.md, "Velocity control"). In a drop, and for drop_floor_steps
 // touchdowns from each decrease of V_c, q0_d does not go below the pitch the walker settles at
-// for the command V_d (the settled map, or the pitch map without one) less drop_floor_margin:
+// for the command V_d (the settled map, or the pitch map without one) less drop_floor_margin; a
+// higher command since (a rise, an obstacle's approach speed) does not raise the floor:
 // the slower gait's pattern brakes the robot a few steps after the pitch has leaned back, and a
 // pitch leaned past the new speed's then stops it (docs/design/velocity-control.md, "The drop's
 // pitch floor").
@@ -219,6 +220,7 @@ class VelocityControl {
   double last_source_ = 0.0;  // the profile's V_d at the previous call
   int since_drop_ = -1;       // touchdowns since V_c last decreased (-1: never)
   double last_v_d_ = 0.0;     // V_d at the last command (m/s)
+  double drop_v_d_ = 0.0;     // V_d at the last decrease of V_c in a drop (m/s)
   bool shift_idle_ = false;   // the walker's gait choice holds in the gait shift's place
   double excess_ = 0.0;       // gait shift: the effort u below the q0_d floor, u - q0_d (rad, <= 0)
 };
