@@ -20,13 +20,17 @@ RunScore Score(const std::string& suite, const RunOutput& run) {
   s.passed = run.passed;
   s.outcome = OutcomeName(run.sim.outcome);
   const RunMetrics& m = run.metrics;
-  s.value = {run.passed ? 0.0 : 1.0, m.mean_abs_speed_error,
-             m.l_step_spread,        m.energy,
-             m.cost_of_transport,    m.saturation};
+  s.value = {run.passed ? 0.0 : 1.0,
+             m.mean_abs_speed_error,
+             m.l_step_spread,
+             m.energy,
+             m.cost_of_transport,
+             m.saturation,
+             run.sim.outcome == Outcome::kCompleted ? 0.0 : 1.0};
   return s;
 }
 
-// One line per score: "k passed outcome v0 ... v5" (numbers exact), for the gather.
+// One line per score: "k passed outcome v0 ... v6" (numbers exact), for the gather.
 std::string Serialise(size_t k, const RunScore& s) {
   std::string line = std::to_string(k) + " " + (s.passed ? "1" : "0") + " " + s.outcome;
   for (double v : s.value) line += " " + ExactNumber(v);

@@ -28,7 +28,7 @@ constexpr AlgorithmName kAlgorithms[] = {
     {"direct_l", TuneAlgorithm::kDirectL}, {"ceres", TuneAlgorithm::kCeres}};
 
 // A run without a value for a term counts this (docs/formats/tune-job.md).
-constexpr double kDefaultMissing[kNumTuneTerms] = {1.0, 1.0, 0.5, 0.0, 5.0, 0.0};
+constexpr double kDefaultMissing[kNumTuneTerms] = {1.0, 1.0, 0.5, 0.0, 5.0, 0.0, 1.0};
 
 std::string FileText(const std::string& path) {
   return ReadBoundedFileIfExists(path, kTomlFileLimits);
@@ -60,9 +60,9 @@ std::string Near(const std::map<std::string, double>& settings, const std::strin
 }  // namespace
 
 const char* TuneTermName(int term) {
-  static const char* const kNames[kNumTuneTerms] = {"failure_rate",       "speed_error",
-                                                    "step_length_spread", "energy",
-                                                    "cost_of_transport",  "saturation_time"};
+  static const char* const kNames[kNumTuneTerms] = {
+      "failure_rate",      "speed_error",     "step_length_spread", "energy",
+      "cost_of_transport", "saturation_time", "incomplete_rate"};
   return kNames[term];
 }
 

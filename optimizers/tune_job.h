@@ -32,10 +32,12 @@ enum TuneTerm {
   kEnergy,            // J, positive actuator work
   kCostOfTransport,   // energy / (m g distance)
   kSaturationTime,    // s, summed over the joints
+  kIncompleteRate,    // 1 when the run did not complete (fell, tripped, stalled, ...), else 0
   kNumTuneTerms
 };
 // "failure_rate", "speed_error", "step_length_spread", "energy", "cost_of_transport",
-// "saturation_time": the keys of [objective] and the columns of evaluations.csv.
+// "saturation_time", "incomplete_rate": the keys of [objective] and the columns of
+// evaluations.csv.
 const char* TuneTermName(int term);
 
 struct TuneParameter {

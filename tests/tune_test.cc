@@ -281,9 +281,9 @@ TEST_F(TuneTest, ObjectiveTermsFollowTheirDefinitions) {
   Evaluation e;
   RunScore a, b;
   a.passed = true;
-  a.value = {0.0, 0.03, 0.01, 100.0, 0.4, 1.0};
+  a.value = {0.0, 0.03, 0.01, 100.0, 0.4, 1.0, 0.0};
   b.passed = false;
-  b.value = {1.0, std::nan(""), 0.02, 50.0, std::nan(""), 0.0};
+  b.value = {1.0, std::nan(""), 0.02, 50.0, std::nan(""), 0.0, 1.0};
   e.scores = {a, b};
   ScoreEvaluation(o, &e);
   EXPECT_EQ(e.runs, 2);
@@ -291,6 +291,11 @@ TEST_F(TuneTest, ObjectiveTermsFollowTheirDefinitions) {
   EXPECT_DOUBLE_EQ(e.terms[kFailureRate], 0.5);
   EXPECT_DOUBLE_EQ(e.terms[kSpeedError], (0.03 + 1.0) / 2);  // the missing value counts 1.0
   EXPECT_DOUBLE_EQ(e.objective, 2.0 * 0.5 + 10.0 * (0.03 + 1.0) / 2);
+  EXPECT_DOUBLE_EQ(e.terms[kIncompleteRate], 0.5);  // a term without weight is still reported
+  o.weight[kIncompleteRate] = 3.0;                  // a run that did not complete counts extra
+  ScoreEvaluation(o, &e);
+  EXPECT_DOUBLE_EQ(e.objective, 2.0 * 0.5 + 10.0 * (0.03 + 1.0) / 2 + 3.0 * 0.5);
+  o.weight[kIncompleteRate] = 0.0;
   o.squares = true;
   ScoreEvaluation(o, &e);
   EXPECT_DOUBLE_EQ(e.objective, 2.0 * 0.5 + 10.0 * (0.03 * 0.03 + 1.0) / 2);
@@ -298,6 +303,40 @@ TEST_F(TuneTest, ObjectiveTermsFollowTheirDefinitions) {
   invalid.error = "bad";
   ScoreEvaluation(o, &invalid);
   EXPECT_EQ(invalid.objective, kInvalidObjective);
+}
+
+// incomplete_rate is 1 for a run whose outcome is not `completed` (here the stall watch ends
+// the run when the tuned minimum advance is out of reach), 0 otherwise, whether or not the run
+// passed its criteria; evaluations.csv holds its mean over the candidate's runs.
+TEST_F(TuneTest, IncompleteRateCountsTheRunsThatDidNotComplete) {
+  const std::string job =
+      Job("algorithm = \"crs2\"\nseed = 3\n",
+          "[[parameter]]\npath = \"criteria.stall_min_advance_m\"\nlower = 0.05\n"
+          "upper = 5.0\n");
+  TuneOptions options;
+  options.out = (dir_ / "out").string();
+  options.threads = 2;
+  options.html = false;
+  const TuneResult result = RunTune(LoadTuneJob(job), options);
+  ASSERT_EQ(result.evaluations.size(), 6u);
+  const CsvTable runs = CsvTable::Read((dir_ / "out" / "runs.csv").string());
+  int completed = 0, incomplete = 0;
+  for (size_t r = 0; r < runs.num_rows(); ++r) {
+    const bool done = runs.Text(r, runs.Column("outcome")) == "completed";
+    EXPECT_EQ(runs.Number(r, runs.Column("incomplete_rate")), done ? 0.0 : 1.0) << r;
+    if (!done) {
+      EXPECT_EQ(runs.Number(r, runs.Column("failure_rate")), 1.0) << r;
+    }
+    (done ? completed : incomplete) += 1;
+  }
+  EXPECT_GT(completed, 0);
+  EXPECT_GT(incomplete, 0);
+  const CsvTable log = CsvTable::Read((dir_ / "out" / "evaluations.csv").string());
+  ASSERT_EQ(log.num_rows(), runs.num_rows());  // one run per candidate
+  for (size_t r = 0; r < log.num_rows(); ++r) {
+    EXPECT_EQ(log.Number(r, log.Column("incomplete_rate")),
+              result.evaluations[r].terms[kIncompleteRate]);
+  }
 }
 
 TEST_F(TuneTest, ThreadsDoNotChangeTheResultAndTheBestIsTheMinimum) {

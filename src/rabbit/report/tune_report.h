@@ -7,17 +7,18 @@
 //                        max_evaluations, form, weights, suites, evaluations, initial_eval,
 //                        best_eval, initial_objective, best_objective, complete, fingerprint
 //   DIR/evaluations.csv  one row per candidate, in evaluation order: eval, round, start, seq,
-//                        objective, the six terms, runs, failed, one column per tuned parameter
+//                        objective, the seven terms, runs, failed, one column per tuned parameter
 //                        (named by its key path, as in parameters.csv), error, wall_s
 //   DIR/runs.csv         one row per run of a candidate: eval, suite, scenario, passed, outcome,
-//                        the six terms
+//                        the seven terms
 //   DIR/parameters.csv   path, lower, upper, initial, best
 //   DIR/comparison.csv   suite, scenario, initial_passed, best_passed, initial_<term>,
-//                        best_<term> for each of the six terms
+//                        best_<term> for each of the seven terms
 //   DIR/best.toml        the best parameters (shown verbatim; optional)
-// The six terms: failure_rate, speed_error, step_length_spread, energy, cost_of_transport,
-// saturation_time. An evaluation with an error, or an objective of at least 1e6 (the penalty of
-// an invalid candidate), is invalid.
+// The seven terms: failure_rate, speed_error, step_length_spread, energy, cost_of_transport,
+// saturation_time, incomplete_rate (a log written before the last had none: read as NaN). An
+// evaluation with an error, or an objective of at least 1e6 (the penalty of an invalid candidate),
+// is invalid.
 //
 // Output, DIR/index.html: one self-contained page (inline CSS, figures as data: SVG images from
 // one gnuplot process, nothing fetched): the job's header (algorithm, seed, budget, form,

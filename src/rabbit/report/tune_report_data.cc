@@ -36,17 +36,24 @@ namespace fs = std::filesystem;
 
 namespace {
 
+constexpr size_t kNoColumn = static_cast<size_t>(-1);
+
 Terms ReadTerms(const CsvTable& table, size_t row, const std::array<size_t, kTerms>& columns) {
   Terms terms{};
   for (int k = 0; k < kTerms; ++k) {
-    terms[k] = table.Number(row, columns[k], CsvNumber::kFiniteOrNan);
+    terms[k] =
+        columns[k] == kNoColumn ? kNan : table.Number(row, columns[k], CsvNumber::kFiniteOrNan);
   }
   return terms;
 }
 
 std::array<size_t, kTerms> TermColumns(const CsvTable& table, const std::string& prefix) {
   std::array<size_t, kTerms> columns{};
-  for (int k = 0; k < kTerms; ++k) columns[k] = table.Column(prefix + kTermNames[k]);
+  for (int k = 0; k < kTerms; ++k) {
+    // incomplete_rate, the last term, came later: a log without it reads NaN there.
+    const std::string name = prefix + kTermNames[k];
+    columns[k] = k == kTerms - 1 && !table.HasColumn(name) ? kNoColumn : table.Column(name);
+  }
   return columns;
 }
 

@@ -26,9 +26,10 @@ constexpr double kInvalidObjective = 1e6;
 constexpr size_t kOpenLogRows = 200;
 constexpr int kFigureWidth = 1000;  // px, as the batch report's default
 
-constexpr int kTerms = 6;
-const char* const kTermNames[kTerms] = {"failure_rate", "speed_error",       "step_length_spread",
-                                        "energy",       "cost_of_transport", "saturation_time"};
+constexpr int kTerms = 7;
+const char* const kTermNames[kTerms] = {"failure_rate",   "speed_error",       "step_length_spread",
+                                        "energy",         "cost_of_transport", "saturation_time",
+                                        "incomplete_rate"};
 using Terms = std::array<double, kTerms>;
 
 // Search starts, in the order of their first appearance (tab10, as matplotlib's default).
